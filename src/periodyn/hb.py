@@ -1,0 +1,331 @@
+"""Harmonic balance for rheo-linear systems (Schwab & Meijaard eq. 14-18).
+
+With ``q(t) = sum_{l=-m..m} q_l exp(i l w t)`` and coefficient spectra ``X_k``, balancing
+harmonic ``k`` gives the block system (direct Galerkin form on M, C, K)
+
+    sum_l [K_{k-l} + i l w C_{k-l} - (l w)^2 M_{k-l}] q_l = f_k,      k = -m..m,
+
+and the paper's form (16)-(18) is the same with M -> I, C -> P = M^-1 C, K -> Q = M^-1 K,
+f -> r = M^-1 f per sample. The matrix is block-banded with the bandwidth of the
+coefficient spectra; it is assembled sparsely on a cached pattern and solved by sparse LU.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .errors import InputError
+from .kernels.harmonic import half_range as _half_range_kernel
+from .spectra import spectral_tail, synthesize, to_samples
+from .system import RheoLinear, Spectra
+
+__all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS"]
+
+FORMS = ("direct", "inverse-mass")
+_BAND_RTOL = 1e-13  # coefficient harmonics below this fraction of the largest are dropped
+_TAIL_WARN = 1e-6  # spectral tail above which the coefficient sampling is called too coarse
+
+
+class AliasingWarning(UserWarning):
+    """The coefficient spectra are not resolved by the sample count (aliasing)."""
+
+
+def check_harmonics(harmonics) -> int:
+    if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) or harmonics < 0:
+        raise InputError(f"harmonics must be a non-negative integer number of harmonics m, got {harmonics!r}")
+    return int(harmonics)
+
+
+def check_form(form: str) -> str:
+    if form not in FORMS:
+        raise InputError(f"unknown form {form!r}; choose one of {FORMS}")
+    return form
+
+
+def system_spectra(system: RheoLinear, harmonics: int, form: str) -> Spectra:
+    """Coefficient spectra for the chosen form, after checking the sampling is adequate."""
+    m = check_harmonics(harmonics)
+    if not isinstance(system, RheoLinear):
+        raise InputError(f"expected a periodyn.RheoLinear system, got {type(system).__name__}; "
+                         "build one with RheoLinear.from_functions/from_samples or model.at(omega)")
+    p = system.samples
+    if p < 2 * m + 1:
+        raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
+                         f"(>= {4 * m + 1} to keep all coefficient couplings)")
+    spectra = system.spectra if check_form(form) == "direct" else system.inverse_mass_spectra
+    tail = max(spectral_tail(spectra.stiffness), spectral_tail(spectra.damping), spectral_tail(spectra.mass))
+    if tail > _TAIL_WARN:
+        warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
+                      "increase samples to avoid aliasing", AliasingWarning, stacklevel=3)
+    return spectra
+
+
+def coefficient_band(spectra: Spectra, m: int) -> int:
+    """Highest coefficient harmonic that couples the balance equations (<= 2m)."""
+    K = (spectra.mass.shape[0] - 1) // 2
+    band = 0
+    for X in (spectra.mass, spectra.damping, spectra.stiffness):
+        mag = np.abs(X).reshape(X.shape[0], -1).max(axis=1)
+        big = np.nonzero(mag > _BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
+        if big.size:
+            band = max(band, int(np.abs(big - K).max()))
+    return min(band, 2 * m)
+
+
+@dataclass(frozen=True)
+class BlockPattern:
+    """Sparsity of a (2m+1)n block matrix with blocks (k, l) for |k - l| <= band.
+
+    k_index, l_index: (nb,) harmonic indices of block rows/columns; csc_perm maps the
+    flattened (nb, n, n) block data to CSC data order; indices/indptr are the CSC arrays.
+    """
+
+    m: int
+    n: int
+    band: int
+    k_index: np.ndarray
+    l_index: np.ndarray
+    csc_perm: np.ndarray
+    indices: np.ndarray
+    indptr: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return (2 * self.m + 1) * self.n
+
+    def matrix(self, blocks: np.ndarray) -> sp.csc_matrix:
+        """CSC matrix from block data (nb, n, n)."""
+        data = blocks.reshape(-1)[self.csc_perm]
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.size, self.size))
+
+
+@lru_cache(maxsize=64)
+def block_pattern(m: int, n: int, band: int) -> BlockPattern:
+    ks, ls = np.meshgrid(np.arange(-m, m + 1), np.arange(-m, m + 1), indexing="ij")
+    keep = np.abs(ks - ls) <= band
+    k_index, l_index = ks[keep], ls[keep]
+    nb = k_index.size
+    i_loc, j_loc = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    rows = ((k_index + m)[:, None, None] * n + i_loc[None]).reshape(-1)
+    cols = ((l_index + m)[:, None, None] * n + j_loc[None]).reshape(-1)
+    order = np.lexsort((rows, cols))
+    size = (2 * m + 1) * n
+    indptr = np.zeros(size + 1, dtype=np.int64)
+    np.add.at(indptr, cols + 1, 1)
+    indptr = np.cumsum(indptr)
+    return BlockPattern(m, n, band, k_index, l_index, order, rows[order].astype(np.int32),
+                        indptr.astype(np.int32))
+
+
+def _take(X: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Coefficients X_d for offsets d (zero outside the stored range), (len(d), ...)."""
+    K = (X.shape[0] - 1) // 2
+    inside = np.abs(d) <= K
+    out = np.zeros((d.size,) + X.shape[1:], dtype=complex)
+    out[inside] = X[d[inside] + K]
+    return out
+
+
+def balance_blocks(spectra: Spectra, omega: float, pattern: BlockPattern):
+    """Blocks of the quadratic Hill/HB operator at exponent 0 on ``pattern``.
+
+    Returns (W, V, Mh), each (nb, n, n) complex, with
+    W = K_{k-l} + i l w C_{k-l} - (l w)^2 M_{k-l}   (the HB matrix, eq. 18),
+    V = C_{k-l} + 2 i l w M_{k-l}                 (eq. 27),
+    Mh = M_{k-l}.
+    """
+    d = pattern.k_index - pattern.l_index
+    Md, Cd, Kd = _take(spectra.mass, d), _take(spectra.damping, d), _take(spectra.stiffness, d)
+    lw = (pattern.l_index * omega)[:, None, None]
+    W = Kd + 1j * lw * Cd - lw**2 * Md
+    V = Cd + 2j * lw * Md
+    return W, V, Md
+
+
+def force_vector(spectra: Spectra, m: int) -> np.ndarray:
+    """Right-hand side f_k, k = -m..m, flattened ((2m+1) n,)."""
+    return _take(spectra.force, np.arange(-m, m + 1)).reshape(-1)
+
+
+def half_range_and_mean(coefficients: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Half peak-to-peak and mean of real periodic signals from spectra (2M+1, r).
+
+    Extrema are located on a grid of 8(2M+1) >= 64 angles and refined by Newton steps on
+    the derivative of the Fourier series (jitted kernel)."""
+    c = np.ascontiguousarray(coefficients, dtype=complex)
+    M = (c.shape[0] - 1) // 2
+    half, mean = np.zeros(c.shape[1]), np.zeros(c.shape[1])
+    if M == 0:
+        return half, c[0].real.copy()
+    grid = to_samples(c, max(64, 8 * (2 * M + 1)))
+    _half_range_kernel(c, grid, half, mean)
+    return half, mean
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """Periodic solution ``q(t) = sum_l harmonics[l+m] exp(i l omega t)`` of a rheo-linear system.
+
+    omega: rad/s; harmonics: (2m+1, n) complex, l = -m..m; output_spectrum:
+    (2M+1, n_out) complex spectrum of the outputs y = G(t) q(t) (M = m + band of G);
+    residual: ||H x - f|| / ||f|| of the balance equations; form: "direct"|"inverse-mass".
+    """
+
+    omega: float
+    harmonics: np.ndarray
+    output_spectrum: np.ndarray
+    coordinate_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    residual: float
+    form: str
+
+    @property
+    def m(self) -> int:
+        return (self.harmonics.shape[0] - 1) // 2
+
+    @property
+    def mean(self) -> np.ndarray:
+        """Mean value per coordinate, (n,)."""
+        return self.harmonics[self.m].real
+
+    @property
+    def output_harmonics(self) -> np.ndarray:
+        """Output harmonics l = -m..m, (2m+1, n_out) complex."""
+        M = (self.output_spectrum.shape[0] - 1) // 2
+        return self.output_spectrum[M - self.m: M + self.m + 1]
+
+    @property
+    def tail(self) -> float:
+        """|q_{+-m}| relative to the largest harmonic: small when m is large enough."""
+        return spectral_tail(self.harmonics)
+
+    def __call__(self, t) -> np.ndarray:
+        """q at times t (s): (len(t), n)."""
+        return synthesize(self.harmonics, self.omega * np.atleast_1d(np.asarray(t, dtype=float)))
+
+    def velocity(self, t) -> np.ndarray:
+        """q' at times t (s): (len(t), n)."""
+        l = np.arange(-self.m, self.m + 1)
+        return synthesize(self.harmonics * (1j * l * self.omega)[:, None], self.omega * np.atleast_1d(t))
+
+    def outputs(self, t) -> np.ndarray:
+        """Outputs y = G(t) q(t) at times t (s): (len(t), n_out)."""
+        return synthesize(self.output_spectrum, self.omega * np.atleast_1d(np.asarray(t, dtype=float)))
+
+    def amplitude(self) -> np.ndarray:
+        """Half peak-to-peak of each coordinate over one period, (n,)."""
+        return half_range_and_mean(self.harmonics)[0]
+
+    def output_amplitude(self) -> np.ndarray:
+        """Half peak-to-peak of each output over one period, (n_out,)."""
+        return half_range_and_mean(self.output_spectrum)[0]
+
+    def output_mean(self) -> np.ndarray:
+        """Mean of each output, (n_out,)."""
+        M = (self.output_spectrum.shape[0] - 1) // 2
+        return self.output_spectrum[M].real
+
+
+def output_spectrum(G: np.ndarray, harmonics: np.ndarray) -> np.ndarray:
+    """Spectrum of y = G(t) q(t): G (2KG+1, n_out, n), q (2m+1, n) -> (2(m+KG')+1, n_out),
+    with KG' the significant band of G (the product is exact, no aliasing)."""
+    KG = (G.shape[0] - 1) // 2
+    mag = np.abs(G).reshape(G.shape[0], -1).max(axis=1)
+    big = np.nonzero(mag > _BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
+    kg = int(np.abs(big - KG).max()) if big.size else 0
+    G = G[KG - kg: KG + kg + 1]
+    m = (harmonics.shape[0] - 1) // 2
+    out = np.zeros((2 * (m + kg) + 1, G.shape[1]), dtype=complex)
+    for j in range(2 * kg + 1):  # y_{l + (j-kg)} += G_{j-kg} q_l
+        out[j: j + 2 * m + 1] += harmonics @ G[j].T
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class HillOperator:
+    """The harmonic-balance / Hill operator of one system at one speed.
+
+    Blocks on ``pattern`` (each (nb, n, n) complex): W (the HB matrix of eq. 18), V and
+    Mh (eq. 27); ``.W``, ``.V``, ``.Mh`` give them as (2m+1)n square CSC matrices.
+    rhs: ((2m+1)n,) force harmonics; identity_mass: Mh is the identity (inverse-mass form).
+    """
+
+    omega: float
+    pattern: BlockPattern
+    blocks: tuple[np.ndarray, np.ndarray, np.ndarray]
+    rhs: np.ndarray
+    identity_mass: bool
+
+    @property
+    def m(self) -> int:
+        return self.pattern.m
+
+    @property
+    def n(self) -> int:
+        return self.pattern.n
+
+    @cached_property
+    def W(self) -> sp.csc_matrix:
+        return self.pattern.matrix(self.blocks[0])
+
+    @cached_property
+    def V(self) -> sp.csc_matrix:
+        return self.pattern.matrix(self.blocks[1])
+
+    @cached_property
+    def Mh(self) -> sp.csc_matrix:
+        return self.pattern.matrix(self.blocks[2])
+
+    def dense(self, which: int) -> np.ndarray:
+        """Block matrix 0 (W), 1 (V) or 2 (Mh) as a dense ((2m+1)n)^2 array (Hill only)."""
+        pat, n = self.pattern, self.n
+        out = np.zeros((2 * pat.m + 1, n, 2 * pat.m + 1, n), dtype=complex)
+        out[pat.k_index + pat.m, :, pat.l_index + pat.m, :] = self.blocks[which]
+        return out.reshape(pat.size, pat.size)
+
+
+def hill_operator(spectra: Spectra, omega: float, m: int) -> HillOperator:
+    """Blocks W, V, Mh on the cached block-banded pattern of the coefficient band."""
+    n = spectra.mass.shape[1]
+    pattern = block_pattern(m, n, coefficient_band(spectra, m))
+    K = (spectra.mass.shape[0] - 1) // 2
+    identity_mass = bool(np.array_equal(spectra.mass[K], np.eye(n)) and not np.any(np.delete(spectra.mass, K, axis=0)))
+    return HillOperator(float(omega), pattern, balance_blocks(spectra, omega, pattern), force_vector(spectra, m),
+                        identity_mass)
+
+
+def solve_balance(op: HillOperator) -> tuple[np.ndarray, float]:
+    """Solve W x = rhs by sparse LU: harmonics (2m+1, n) and the relative residual."""
+    try:
+        x = spla.splu(op.W).solve(op.rhs)
+    except RuntimeError as exc:  # exactly singular: resonance of an undamped system
+        raise InputError(f"the harmonic balance matrix is singular at omega = {op.omega:.6g} rad/s "
+                         f"(an undamped resonance: a characteristic exponent is a multiple of i*omega); "
+                         f"add damping or move omega ({exc})") from None
+    scale = np.linalg.norm(op.rhs)
+    residual = np.linalg.norm(op.W @ x - op.rhs)
+    q = x.reshape(2 * op.m + 1, op.n)
+    q = 0.5 * (q + np.conj(q[::-1]))  # enforce the conjugate symmetry of a real solution
+    return q, float(residual / scale if scale > 0 else residual)
+
+
+def periodic_solution(system: RheoLinear, harmonics: int, *, form: str = "direct",
+                      operator: HillOperator | None = None) -> PeriodicSolution:
+    """Periodic solution by harmonic balance (eq. 18) with ``harmonics`` = m harmonics.
+
+    form="direct" balances M, C, K (Galerkin on the original form, keeps symmetry);
+    form="inverse-mass" balances the paper's P = M^-1 C, Q = M^-1 K, r = M^-1 f (eq. 16).
+    operator: a prebuilt :class:`HillOperator` of this system, form and m (reused by sweeps).
+    """
+    m = check_harmonics(harmonics)
+    if operator is None:
+        operator = hill_operator(system_spectra(system, m, form), system.omega, m)
+    q, residual = solve_balance(operator)
+    return PeriodicSolution(system.omega, q, output_spectrum(system.spectra.outputs, q), system.coordinate_names,
+                            system.output_names, residual, form)

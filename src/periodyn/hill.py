@@ -1,0 +1,284 @@
+"""Characteristic exponents by Hill's method (Schwab & Meijaard eq. 25-27).
+
+Substituting ``q = exp(lambda t) sum_l q_l exp(i l w t)`` into
+``M(t) q'' + C(t) q' + K(t) q = 0`` gives the quadratic eigenproblem
+
+    sum_l [lambda^2 M_{k-l} + lambda V_kl + W_kl] q_l = 0,
+    V_kl = C_{k-l} + 2 i l w M_{k-l},  W_kl = K_{k-l} + i l w C_{k-l} - (l w)^2 M_{k-l},
+
+solved in first-order form ``A z = lambda B z`` with ``A = [[0, I], [-W, -V]]``,
+``B = diag(I, Mh)`` (size 2(2m+1)n). Its (2m+1)2n eigenvalues come in clusters
+``lambda + i j w``; one representative per physical exponent is chosen by the
+eigenvector-centred criterion of Lazarus & Thomas (2010): the members whose harmonic
+energy centroid is closest to l = 0 are the accurate ones, and a member with centroid c
+represents the exponent ``lambda + i w round(c)`` (the one whose eigenvector is centred).
+
+method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s (near 0),
+using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
+requested until 2n distinct clusters are found. method="dense": all eigenvalues
+(LAPACK). method="monodromy": direct integration over one period (periodyn.timedomain).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse.linalg as spla
+
+from .errors import ConvergenceError, InputError
+from .hb import HillOperator, check_harmonics, hill_operator, system_spectra
+from .system import RheoLinear, Spectra
+
+__all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS"]
+
+METHODS = ("auto", "sparse", "dense", "monodromy")
+_DENSE_MAX = 600  # first-order Hill size up to which "auto" uses LAPACK
+
+
+@dataclass(frozen=True, eq=False)
+class FloquetExponents:
+    """Characteristic exponents of a periodic linear system of 2n first-order equations.
+
+    omega: rad/s. exponents: (2n,) complex, rad/s — for Hill's method the eigenvector-
+    centred representative (imaginary part is the physical vibration frequency), for the
+    monodromy method the principal value with |Im| <= omega/2. multipliers = exp(lambda T).
+    centroid: (2n,) harmonic-energy centroid of the chosen Hill eigenvectors; edge: (2n,)
+    fraction of their energy in the outermost harmonics |l| = m, the truncation error
+    indicator (raise m when it is not small); both NaN for monodromy. method: how computed.
+    """
+
+    omega: float
+    exponents: np.ndarray
+    centroid: np.ndarray
+    edge: np.ndarray
+    method: str
+
+    @property
+    def period(self) -> float:
+        return 2 * np.pi / self.omega
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Characteristic multipliers exp(lambda T), (2n,) complex."""
+        return np.exp(self.exponents * self.period)
+
+    @property
+    def principal(self) -> np.ndarray:
+        """Exponents shifted by multiples of i omega into |Im| <= omega/2, (2n,)."""
+        shift = np.round(self.exponents.imag / self.omega)
+        return self.exponents - 1j * self.omega * shift
+
+    @property
+    def max_real(self) -> float:
+        """Largest real part of the exponents (1/s); negative means asymptotically stable."""
+        return float(self.exponents.real.max())
+
+    @property
+    def stable(self) -> bool:
+        """True when every exponent has a negative real part."""
+        return self.max_real < 0.0
+
+
+def check_method(method: str) -> str:
+    if method not in METHODS:
+        raise InputError(f"unknown stability method {method!r}; choose one of {METHODS}")
+    return method
+
+
+def _centroids(X: np.ndarray, m: int, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Harmonic-energy centroids of displacement eigenvectors X ((2m+1)n, k) and the
+    energy fraction in the edge harmonics |l| = m, each (k,)."""
+    energy = (np.abs(X) ** 2).reshape(2 * m + 1, n, -1).sum(axis=1)  # (2m+1, k)
+    total = energy.sum(axis=0)
+    l = np.arange(-m, m + 1)
+    edge = (energy[0] + energy[-1]) / total if m > 0 else np.ones_like(total)
+    return (l @ energy) / total, edge
+
+
+def _shift(v: np.ndarray, j: int) -> np.ndarray:
+    """v (2m+1, n) re-indexed so that entry l holds v[l + j] (zero outside)."""
+    out = np.zeros_like(v)
+    if abs(j) >= v.shape[0]:
+        return out
+    if j >= 0:
+        out[: v.shape[0] - j] = v[j:]
+    else:
+        out[-j:] = v[: v.shape[0] + j]
+    return out
+
+
+def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int, n: int,
+                           count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Pick ``count`` exponents, one per cluster, from Hill eigenpairs.
+
+    lam: (k,) eigenvalues; X: ((2m+1)n, k) displacement parts of the eigenvectors.
+    Candidates are taken most-centred first. A candidate is another member of an accepted
+    cluster when its eigenvalue differs from an accepted one by a nonzero multiple j of
+    i*omega (to 1e-7 of |lambda| + omega) and its eigenvector is the accepted one shifted by
+    j harmonics (lies in their span): this keeps repeated exponents of symmetric systems
+    and the two members of a period-doubling pair, whose centroids are both +-1/2.
+    Returns (centred exponents (<= count,), centroids, edge energy fractions).
+    """
+    c, edge = _centroids(X, m, n)
+    r = np.round(c).astype(int)
+    order = np.argsort(np.abs(c))
+    chosen, picked, raw, vecs = [], [], [], []
+    for i in order:
+        x = X[:, i].reshape(2 * m + 1, n) / np.linalg.norm(X[:, i])
+        same = []
+        for lj, vj in zip(raw, vecs):
+            d = lam[i] - lj
+            j = int(np.round(d.imag / omega))
+            if j != 0 and abs(d - 1j * omega * j) <= 1e-7 * (abs(lj) + omega):
+                same.append(_shift(vj, j).reshape(-1))  # member lambda_j + i j w has x[l] = v_j[l + j]
+        if same:
+            U = np.stack(same, axis=1)
+            coef, *_ = np.linalg.lstsq(U, x.reshape(-1), rcond=None)
+            if np.linalg.norm(x.reshape(-1) - U @ coef) < 0.5:
+                continue
+        chosen.append(lam[i] + 1j * omega * r[i])
+        picked.append(i)
+        raw.append(lam[i])
+        vecs.append(x)
+        if len(chosen) == count:
+            break
+    picked = np.array(picked, dtype=int)
+    return np.array(chosen), c[picked], edge[picked]
+
+
+def _real_form(A: np.ndarray, zero: np.ndarray, pos: np.ndarray, neg: np.ndarray):
+    """Unitary map of a Hill matrix of a real system to a real matrix.
+
+    A (s, s) satisfies A = J conj(A) J, J the reversal of harmonic index l -> -l; with
+    Q = [e_0, (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real.
+    zero/pos/neg: row indices with l = 0, l > 0 and their l -> -l partners. Returns (real
+    matrix, function mapping its eigenvectors back to the harmonic basis)."""
+    r2 = np.sqrt(0.5)
+    AQ = np.concatenate([A[:, zero], r2 * (A[:, pos] + A[:, neg]), 1j * r2 * (A[:, pos] - A[:, neg])], axis=1)
+    R = np.concatenate([AQ[zero], r2 * (AQ[pos] + AQ[neg]), -1j * r2 * (AQ[pos] - AQ[neg])], axis=0).real
+    nz, npos = zero.size, pos.size
+
+    def back(Wv):
+        Z = np.empty((A.shape[0], Wv.shape[1]), dtype=complex)
+        Z[zero] = Wv[:nz]
+        plus, minus = Wv[nz: nz + npos], Wv[nz + npos:]
+        Z[pos] = r2 * (plus + 1j * minus)
+        Z[neg] = r2 * (plus - 1j * minus)
+        return Z
+
+    return R, back
+
+
+@lru_cache(maxsize=64)
+def _real_form_indices(m: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows of the first-order Hill vector [x; lambda x] (harmonic-major blocks of n) with
+    l = 0, l > 0, and the partner row (-l, same coordinate, same half) of each l > 0 row."""
+    N = (2 * m + 1) * n
+    rows = np.arange(2 * N)
+    half, rem = np.divmod(rows, N)
+    block, coord = np.divmod(rem, n)
+    l = block - m
+    pos = rows[l > 0]
+    partner = half[pos] * N + (m - l[pos]) * n + coord[pos]
+    return rows[l == 0], pos, partner
+
+
+def _dense_eigs(op: HillOperator):
+    N = op.pattern.size
+    if op.identity_mass:
+        MW, MV = op.dense(0), op.dense(1)
+    else:
+        lu = sla.lu_factor(op.dense(2))
+        MW, MV = sla.lu_solve(lu, op.dense(0)), sla.lu_solve(lu, op.dense(1))
+    A = np.zeros((2 * N, 2 * N), dtype=complex)
+    A[:N, N:] = np.eye(N)
+    A[N:, :N] = -MW
+    A[N:, N:] = -MV
+    R, back = _real_form(A, *_real_form_indices(op.m, op.n))
+    lam, Wv = sla.eig(R, overwrite_a=True, check_finite=False)
+    return lam, back(Wv)[:N]
+
+
+def _sparse_eigs(op: HillOperator, k: int, sigma: complex):
+    N = op.W.shape[0]
+    lu = spla.splu((op.W + sigma * op.V + sigma**2 * op.Mh).tocsc())
+    VsM = (op.V + sigma * op.Mh).tocsr()
+    Mh = op.Mh.tocsr()
+
+    def apply(z):
+        z1, z2 = z[:N], z[N:]
+        x = lu.solve(-(Mh @ z2) - VsM @ z1)
+        return np.concatenate([x, z1 + sigma * x])
+
+    Op = spla.LinearOperator((2 * N, 2 * N), matvec=apply, dtype=complex)
+    v0 = np.ones(2 * N, dtype=complex) / np.sqrt(2 * N)
+    nu, Z = spla.eigs(Op, k=k, which="LM", v0=v0, tol=1e-13, maxiter=max(1000, 20 * N))
+    return sigma + 1.0 / nu, Z[:N]
+
+
+def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponents:
+    """Characteristic exponents from a Hill operator (see module docstring).
+
+    Raises ConvergenceError when 2n clusters cannot be resolved (increase harmonics) or
+    ARPACK does not converge."""
+    m, n, omega = op.m, op.n, op.omega
+    N = op.pattern.size
+    if method == "auto":
+        method = "dense" if 2 * N <= _DENSE_MAX else "sparse"
+    if method == "dense":
+        lam, X = _dense_eigs(op)
+        exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
+    else:
+        # a shift off the special points 0 (transcritical) and i*w/2 (flip)
+        sigma = omega * (-0.0137 + 0.0071j)
+        k = min(2 * N - 2, max(4 * n, 2 * n + 12))
+        while True:
+            try:
+                lam, X = _sparse_eigs(op, k, sigma)
+            except spla.ArpackNoConvergence:
+                raise ConvergenceError(f"ARPACK did not converge for {k} Hill eigenvalues at omega = {omega:.6g} "
+                                       "rad/s; try method='dense'", iterations=k) from None
+            exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
+            if exps.size == 2 * n or k >= 2 * N - 2:
+                break
+            k = min(2 * N - 2, 2 * k)
+    if exps.size < 2 * n:
+        raise ConvergenceError(f"Hill's method with m = {m} resolved {exps.size} of {2 * n} exponent clusters at "
+                               f"omega = {omega:.6g} rad/s; increase harmonics")
+    order = np.lexsort((exps.imag, exps.real))
+    return FloquetExponents(float(omega), exps[order], cents[order], edge[order], method)
+
+
+def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, omega: float,
+                   harmonics: int, method: str = "auto") -> FloquetExponents:
+    """Exponents of ``M(t) y'' + C(t) y' + K(t) y = 0`` from coefficient spectra.
+
+    mass, damping, stiffness: two-sided spectra (2K+1, n, n); omega: rad/s; harmonics: m.
+    method: "auto" (dense up to a first-order size of 600, else sparse), "sparse", "dense".
+    """
+    m = check_harmonics(harmonics)
+    if check_method(method) == "monodromy":
+        raise InputError("hill_exponents works on spectra; use characteristic_exponents(system, m, method='monodromy')")
+    n = mass.shape[1]
+    spectra = Spectra(mass, damping, stiffness, np.zeros((mass.shape[0], n)), np.zeros((1, 0, n)))
+    return operator_exponents(hill_operator(spectra, omega, m), method)
+
+
+def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "auto", *,
+                             form: str = "direct") -> FloquetExponents:
+    """Characteristic exponents of the homogeneous rheo-linear system.
+
+    method: "sparse" (ARPACK shift-invert subset), "dense" (all Hill eigenvalues),
+    "monodromy" (integration over one period; ``harmonics`` unused), "auto".
+    form: "direct" (Hill on M, C, K) or "inverse-mass" (the paper's eq. 26-27 on P, Q).
+    """
+    method = check_method(method)
+    if method == "monodromy":
+        from .timedomain import monodromy_exponents
+
+        return monodromy_exponents(system)
+    m = check_harmonics(harmonics)
+    return operator_exponents(hill_operator(system_spectra(system, m, form), system.omega, m), method)
