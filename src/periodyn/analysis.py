@@ -1,17 +1,27 @@
 """One speed, everything a sweep records: periodic solution, output harmonics and
-amplitudes, and (optionally) the characteristic exponents."""
+amplitudes, and (optionally) the characteristic exponents.
+
+:func:`solve_point` works on any :class:`RheoLinear`. :class:`SpeedSolver` serves a
+constant-speed :class:`OmegaSplitModel`: the Hill/HB blocks are polynomials in omega
+(``W = sum_p w^p W_p`` up to p = 4, ``V`` up to 2, ``Mh`` constant), so their terms, and
+for small systems the real first-order Hill matrix terms, are built once per model and a
+speed costs one polynomial evaluation, one sparse LU and one eigen-solve.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 
-from .hb import check_harmonics, hill_operator, periodic_solution, system_spectra
-from .hill import check_method, operator_exponents
-from .system import RheoLinear
+from .hb import (HillOperator, _take, block_pattern, check_form, check_harmonics, coefficient_band, hill_operator,
+                 output_spectrum, periodic_solution, solve_balance, system_spectra, PeriodicSolution)
+from .hill import _DENSE_MAX, check_method, first_order_matrix, operator_exponents, real_form
+from .spectra import spectral_tail
+from .system import OmegaSplitModel, RheoLinear, Spectra
 
-__all__ = ["PointResult", "solve_point"]
+__all__ = ["PointResult", "solve_point", "SpeedSolver"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,17 +43,118 @@ class PointResult:
     stable: bool
 
 
+def _point(sol: PeriodicSolution, op: HillOperator | None, method: str, n: int) -> PointResult:
+    if op is not None:
+        fl = operator_exponents(op, method)
+        exps, mults, max_real, stable = fl.exponents, fl.multipliers, fl.max_real, fl.stable
+    else:
+        exps = mults = np.full(2 * n, np.nan + 0j)
+        max_real, stable = float("nan"), False
+    return PointResult(sol.omega, sol.output_names, sol.output_harmonics, sol.output_amplitude(), sol.output_mean(),
+                       sol.residual, exps, mults, max_real, stable)
+
+
 def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, method: str = "auto", *,
                 form: str = "direct") -> PointResult:
     """Harmonic balance and, with ``stability``, Hill exponents (method as in
     :func:`periodyn.characteristic_exponents`) for one rheo-linear system."""
-    op = hill_operator(system_spectra(system, check_harmonics(harmonics), form), system.omega, harmonics)
-    sol = periodic_solution(system, harmonics, form=form, operator=op)
-    if stability:
-        fl = operator_exponents(op, check_method(method))
-        exps, mults, max_real, stable = fl.exponents, fl.multipliers, fl.max_real, fl.stable
-    else:
-        exps = mults = np.full(2 * system.n, np.nan + 0j)
-        max_real, stable = float("nan"), False
-    return PointResult(system.omega, system.output_names, sol.output_harmonics, sol.output_amplitude(),
-                       sol.output_mean(), sol.residual, exps, mults, max_real, stable)
+    m = check_harmonics(harmonics)
+    method = check_method(method)
+    op = hill_operator(system_spectra(system, m, form), system.omega, m)
+    sol = periodic_solution(system, m, form=form, operator=op)
+    if method == "monodromy" and stability:
+        from .timedomain import monodromy_exponents
+
+        fl = monodromy_exponents(system)
+        return PointResult(sol.omega, sol.output_names, sol.output_harmonics, sol.output_amplitude(),
+                           sol.output_mean(), sol.residual, fl.exponents, fl.multipliers, fl.max_real, fl.stable)
+    return _point(sol, op if stability else None, method, system.n)
+
+
+class SpeedSolver:
+    """Per-model precomputation for speed sweeps of an :class:`OmegaSplitModel`.
+
+    ``solve(omega)`` gives the same :class:`PointResult` as
+    ``solve_point(model.at(omega), harmonics, stability, method, form=form)``.
+    """
+
+    def __init__(self, model: OmegaSplitModel, harmonics: int, stability: bool = True, method: str = "auto",
+                 form: str = "direct"):
+        self.model = model
+        self.m = m = check_harmonics(harmonics)
+        self.stability = stability
+        self.method = check_method(method)
+        self.form = check_form(form)
+        if model.samples < 2 * m + 1:
+            system_spectra(model.at(1.0), m, form)  # raises the sample-count error
+        Ms, Cs, Ks, fs, Gs = model._power_spectra  # powers on the last axis
+        if form == "inverse-mass":
+            Minv = np.linalg.inv(model.mass)
+            from .spectra import fourier_coefficients
+
+            Cs = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.damping, 0, -1)))
+            Ks = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.stiffness, 0, -1)))
+            fs = fourier_coefficients(np.einsum("pij,pjq->piq", Minv, np.moveaxis(model.force, 0, -1)))
+            Ms = np.zeros_like(Ms)
+            Ms[(Ms.shape[0] - 1) // 2] = np.eye(model.n)
+        self.output_spectra = Gs
+        system_spectra(RheoLinear(1.0, model.mass, model.damping.sum(0), model.stiffness.sum(0), model.force.sum(0),
+                                  model.coordinate_names, model.output_maps, model.output_names, None,
+                                  Spectra(Ms, Cs.sum(-1), Ks.sum(-1), fs.sum(-1), Gs)), m, "direct")  # aliasing check
+        band = max(coefficient_band(Spectra(Ms, Cs[..., j], Ks[..., i], None, None), m)
+                   for j in range(Cs.shape[-1]) for i in range(Ks.shape[-1]))
+        self.pattern = pat = block_pattern(m, model.n, band)
+        d = pat.k_index - pat.l_index
+        l = pat.l_index[:, None, None].astype(float)
+        Md = _take(Ms, d)
+        degree = max(Ks.shape[-1] - 1, Cs.shape[-1], 2)
+        W = np.zeros((degree + 1,) + Md.shape, dtype=complex)
+        V = np.zeros((max(Cs.shape[-1] - 1, 1) + 1,) + Md.shape, dtype=complex)
+        for p in range(Ks.shape[-1]):
+            W[p] += _take(Ks[..., p], d)
+        for p in range(Cs.shape[-1]):
+            Cd = _take(Cs[..., p], d)
+            W[p + 1] += 1j * l * Cd
+            V[p] += Cd
+        W[2] -= l**2 * Md
+        V[1] += 2j * l * Md
+        self.W, self.V, self.Md = W, V, Md
+        self.rhs = np.stack([_take(fs[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(fs.shape[-1])])
+        K = (Ms.shape[0] - 1) // 2
+        self.identity_mass = bool(np.array_equal(Ms[K], np.eye(model.n)) and not np.any(np.delete(Ms, K, axis=0)))
+        self.real_terms = None
+        if stability and (self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX)):
+            lu = None if self.identity_mass else sla.lu_factor(self._dense(Md))
+            self.real_terms = np.stack([real_form(first_order_matrix(self._dense(W[p]), self._dense(V[p]) if p < len(V)
+                                                                     else np.zeros_like(self._dense(W[p])), lu,
+                                                                     identity=(p == 0)), m, model.n)
+                                        for p in range(len(W))])
+
+    def _dense(self, blocks: np.ndarray) -> np.ndarray:
+        pat, n = self.pattern, self.model.n
+        out = np.zeros((2 * pat.m + 1, n, 2 * pat.m + 1, n), dtype=complex)
+        out[pat.k_index + pat.m, :, pat.l_index + pat.m, :] = blocks
+        return out.reshape(pat.size, pat.size)
+
+    def operator(self, omega: float) -> HillOperator:
+        """The Hill/HB operator at driving speed omega (rad/s)."""
+        w = float(omega)
+        if not np.isfinite(w) or w <= 0:
+            from .errors import InputError
+
+            raise InputError(f"omega must be a positive finite driving speed in rad/s, got {omega!r}")
+        pw = w ** np.arange(len(self.W))
+        real = None if self.real_terms is None else np.tensordot(pw, self.real_terms, 1)
+        return HillOperator(w, self.pattern, (np.tensordot(pw, self.W, 1), np.tensordot(pw[: len(self.V)], self.V, 1),
+                                              self.Md), pw[: len(self.rhs)] @ self.rhs, self.identity_mass, real)
+
+    def solve(self, omega: float) -> PointResult:
+        """Periodic solution and stability at one speed (rad/s)."""
+        op = self.operator(omega)
+        q, residual = solve_balance(op)
+        model = self.model
+        sol = PeriodicSolution(op.omega, q, output_spectrum(self.output_spectra, q), model.coordinate_names,
+                               model.output_names, residual, self.form)
+        if self.method == "monodromy" and self.stability:
+            return solve_point(model.at(omega), self.m, True, "monodromy", form=self.form)
+        return _point(sol, op if self.stability else None, self.method, model.n)

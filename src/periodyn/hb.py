@@ -253,7 +253,9 @@ class HillOperator:
 
     Blocks on ``pattern`` (each (nb, n, n) complex): W (the HB matrix of eq. 18), V and
     Mh (eq. 27); ``.W``, ``.V``, ``.Mh`` give them as (2m+1)n square CSC matrices.
-    rhs: ((2m+1)n,) force harmonics; identity_mass: Mh is the identity (inverse-mass form).
+    rhs: ((2m+1)n,) force harmonics; identity_mass: Mh is the identity (inverse-mass form);
+    real_first_order: optional precomputed real form of the first-order Hill matrix
+    (2(2m+1)n square), as a speed sweep assembles it from polynomial terms in omega.
     """
 
     omega: float
@@ -261,6 +263,7 @@ class HillOperator:
     blocks: tuple[np.ndarray, np.ndarray, np.ndarray]
     rhs: np.ndarray
     identity_mass: bool
+    real_first_order: np.ndarray | None = None
 
     @property
     def m(self) -> int:

@@ -27,6 +27,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
+from threadpoolctl import threadpool_limits
 
 from .errors import ConvergenceError, InputError
 from .hb import HillOperator, check_harmonics, hill_operator, system_spectra
@@ -117,8 +118,9 @@ def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int,
     lam: (k,) eigenvalues; X: ((2m+1)n, k) displacement parts of the eigenvectors.
     Candidates are taken most-centred first. A candidate is another member of an accepted
     cluster when its eigenvalue differs from an accepted one by a nonzero multiple j of
-    i*omega (to 1e-7 of |lambda| + omega) and its eigenvector is the accepted one shifted by
-    j harmonics (lies in their span): this keeps repeated exponents of symmetric systems
+    i*omega (to 1e-7 of |lambda| + omega; j = 0, the same eigenvalue found from two shifts,
+    to 1e-10) and its eigenvector is the accepted one shifted by j harmonics (lies in their
+    span): this keeps repeated exponents of symmetric systems, nearly coalescing exponents
     and the two members of a period-doubling pair, whose centroids are both +-1/2.
     Returns (centred exponents (<= count,), centroids, edge energy fractions).
     """
@@ -132,7 +134,8 @@ def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int,
         for lj, vj in zip(raw, vecs):
             d = lam[i] - lj
             j = int(np.round(d.imag / omega))
-            if j != 0 and abs(d - 1j * omega * j) <= 1e-7 * (abs(lj) + omega):
+            tol = 1e-7 if j != 0 else 1e-10  # j = 0: the same eigenvalue found twice (two shifts)
+            if abs(d - 1j * omega * j) <= tol * (abs(lj) + omega):
                 same.append(_shift(vj, j).reshape(-1))  # member lambda_j + i j w has x[l] = v_j[l + j]
         if same:
             U = np.stack(same, axis=1)
@@ -149,27 +152,29 @@ def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int,
     return np.array(chosen), c[picked], edge[picked]
 
 
-def _real_form(A: np.ndarray, zero: np.ndarray, pos: np.ndarray, neg: np.ndarray):
-    """Unitary map of a Hill matrix of a real system to a real matrix.
+def real_form(A: np.ndarray, m: int, n: int) -> np.ndarray:
+    """Unitary map of a first-order Hill matrix of a real system to a real matrix.
 
-    A (s, s) satisfies A = J conj(A) J, J the reversal of harmonic index l -> -l; with
-    Q = [e_0, (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real.
-    zero/pos/neg: row indices with l = 0, l > 0 and their l -> -l partners. Returns (real
-    matrix, function mapping its eigenvectors back to the harmonic basis)."""
+    A (2N, 2N) satisfies A = J conj(A) J, J the reversal of harmonic index l -> -l; with
+    Q = [e_0, (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real (LAPACK's
+    real eigensolver is then about three times faster than the complex one)."""
+    zero, pos, neg = _real_form_indices(m, n)
     r2 = np.sqrt(0.5)
     AQ = np.concatenate([A[:, zero], r2 * (A[:, pos] + A[:, neg]), 1j * r2 * (A[:, pos] - A[:, neg])], axis=1)
-    R = np.concatenate([AQ[zero], r2 * (AQ[pos] + AQ[neg]), -1j * r2 * (AQ[pos] - AQ[neg])], axis=0).real
+    return np.concatenate([AQ[zero], r2 * (AQ[pos] + AQ[neg]), -1j * r2 * (AQ[pos] - AQ[neg])], axis=0).real
+
+
+def _from_real_basis(Wv: np.ndarray, m: int, n: int) -> np.ndarray:
+    """Eigenvectors of the real form back in the harmonic basis: Q Wv."""
+    zero, pos, neg = _real_form_indices(m, n)
+    r2 = np.sqrt(0.5)
+    Z = np.empty(Wv.shape, dtype=complex)
     nz, npos = zero.size, pos.size
-
-    def back(Wv):
-        Z = np.empty((A.shape[0], Wv.shape[1]), dtype=complex)
-        Z[zero] = Wv[:nz]
-        plus, minus = Wv[nz: nz + npos], Wv[nz + npos:]
-        Z[pos] = r2 * (plus + 1j * minus)
-        Z[neg] = r2 * (plus - 1j * minus)
-        return Z
-
-    return R, back
+    Z[zero] = Wv[:nz]
+    plus, minus = Wv[nz: nz + npos], Wv[nz + npos:]
+    Z[pos] = r2 * (plus + 1j * minus)
+    Z[neg] = r2 * (plus - 1j * minus)
+    return Z
 
 
 @lru_cache(maxsize=64)
@@ -186,20 +191,40 @@ def _real_form_indices(m: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return rows[l == 0], pos, partner
 
 
-def _dense_eigs(op: HillOperator):
-    N = op.pattern.size
-    if op.identity_mass:
-        MW, MV = op.dense(0), op.dense(1)
-    else:
-        lu = sla.lu_factor(op.dense(2))
-        MW, MV = sla.lu_solve(lu, op.dense(0)), sla.lu_solve(lu, op.dense(1))
+def first_order_matrix(W: np.ndarray, V: np.ndarray, Mh_lu=None, identity: bool = True) -> np.ndarray:
+    """Dense first-order Hill matrix A = [[0, I], [-Mh^-1 W, -Mh^-1 V]] (2N, 2N) complex
+    (identity=False leaves out the I block, for the higher terms of a polynomial in omega)."""
+    N = W.shape[0]
+    if Mh_lu is not None:
+        W, V = sla.lu_solve(Mh_lu, W), sla.lu_solve(Mh_lu, V)
     A = np.zeros((2 * N, 2 * N), dtype=complex)
-    A[:N, N:] = np.eye(N)
-    A[N:, :N] = -MW
-    A[N:, N:] = -MV
-    R, back = _real_form(A, *_real_form_indices(op.m, op.n))
-    lam, Wv = sla.eig(R, overwrite_a=True, check_finite=False)
-    return lam, back(Wv)[:N]
+    if identity:
+        A[:N, N:] = np.eye(N)
+    A[N:, :N] = -W
+    A[N:, N:] = -V
+    return A
+
+
+def real_first_order_matrix(op: HillOperator) -> np.ndarray:
+    """The first-order Hill matrix of ``op`` in the real basis of :func:`_real_form`."""
+    if op.real_first_order is not None:
+        return op.real_first_order
+    lu = None if op.identity_mass else sla.lu_factor(op.dense(2))
+    return real_form(first_order_matrix(op.dense(0), op.dense(1), lu), op.m, op.n)
+
+
+def _dense_eigs(op: HillOperator):
+    """All eigenpairs of the real first-order Hill matrix (LAPACK dgeev, no wrappers)."""
+    R = np.asfortranarray(real_first_order_matrix(op))
+    wr, wi, _, vr, info = sla.lapack.dgeev(R, compute_vl=0, overwrite_a=1)
+    if info != 0:
+        raise ConvergenceError(f"LAPACK dgeev failed (info {info}) for the Hill matrix at omega = {op.omega:.6g} rad/s")
+    lam = wr + 1j * wi
+    vecs = vr.astype(complex)
+    first = np.nonzero(wi > 0)[0]  # a conjugate pair is stored as (re, im) in columns j, j+1
+    vecs[:, first] = vr[:, first] + 1j * vr[:, first + 1]
+    vecs[:, first + 1] = vr[:, first] - 1j * vr[:, first + 1]
+    return lam, _from_real_basis(vecs, op.m, op.n)[: op.pattern.size]
 
 
 def _sparse_eigs(op: HillOperator, k: int, sigma: complex):
@@ -215,8 +240,40 @@ def _sparse_eigs(op: HillOperator, k: int, sigma: complex):
 
     Op = spla.LinearOperator((2 * N, 2 * N), matvec=apply, dtype=complex)
     v0 = np.ones(2 * N, dtype=complex) / np.sqrt(2 * N)
-    nu, Z = spla.eigs(Op, k=k, which="LM", v0=v0, tol=1e-13, maxiter=max(1000, 20 * N))
+    with threadpool_limits(limits=1):  # ARPACK's small dense steps only lose to BLAS/OpenMP threads
+        nu, Z = spla.eigs(Op, k=k, which="LM", v0=v0, tol=1e-13, maxiter=max(1000, 20 * N))
     return sigma + 1.0 / nu, Z[:N]
+
+
+def _shift_frequencies(op: HillOperator) -> np.ndarray:
+    """Imaginary parts (rad/s, >= 0) of the shift-invert centres: from 0 up to the highest
+    vibration frequency of the mean system (l = 0 block), spaced m*omega/2 so that every
+    exponent has a computed cluster member with centroid |c| <= m/4."""
+    pat, n = op.pattern, op.n
+    centre = np.nonzero((pat.k_index == 0) & (pat.l_index == 0))[0][0]
+    W0, V0, M0 = (b[centre] for b in op.blocks)
+    companion = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M0, W0), -np.linalg.solve(M0, V0)]])
+    top = np.abs(np.linalg.eigvals(companion).imag).max()
+    spacing = max(op.omega, 0.5 * op.m * op.omega)
+    count = int(np.ceil(top / spacing)) + 1
+    return np.linspace(0.0, spacing * (count - 1), count)
+
+
+def _sparse_candidates(op: HillOperator, k: int):
+    """Eigenpairs near each shift centre (ARPACK), with their complex conjugates (a real
+    system's exponents come in pairs: (lambda, x_l) -> (conj lambda, conj x_-l))."""
+    m, n, omega = op.m, op.n, op.omega
+    lams, vecs = [], []
+    for y in _shift_frequencies(op):
+        sigma = omega * (-0.0137 + 0.0071j) + 1j * y  # off the special points 0 and i*w/2
+        try:
+            lam, X = _sparse_eigs(op, k, sigma)
+        except spla.ArpackNoConvergence:
+            raise ConvergenceError(f"ARPACK did not converge for {k} Hill eigenvalues near {sigma:.4g} at omega = "
+                                   f"{omega:.6g} rad/s; try method='dense'", iterations=k) from None
+        lams += [lam, np.conj(lam)]
+        vecs += [X, np.conj(X.reshape(2 * m + 1, n, -1)[::-1]).reshape(X.shape)]
+    return np.concatenate(lams), np.concatenate(vecs, axis=1)
 
 
 def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponents:
@@ -232,15 +289,9 @@ def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponen
         lam, X = _dense_eigs(op)
         exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
     else:
-        # a shift off the special points 0 (transcritical) and i*w/2 (flip)
-        sigma = omega * (-0.0137 + 0.0071j)
-        k = min(2 * N - 2, max(4 * n, 2 * n + 12))
+        k = min(2 * N - 2, 2 * n + max(2 * n, 12))
         while True:
-            try:
-                lam, X = _sparse_eigs(op, k, sigma)
-            except spla.ArpackNoConvergence:
-                raise ConvergenceError(f"ARPACK did not converge for {k} Hill eigenvalues at omega = {omega:.6g} "
-                                       "rad/s; try method='dense'", iterations=k) from None
+            lam, X = _sparse_candidates(op, k)
             exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
             if exps.size == 2 * n or k >= 2 * N - 2:
                 break

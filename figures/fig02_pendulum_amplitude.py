@@ -1,0 +1,38 @@
+"""Schwab & Meijaard (2001) Fig. 2: amplitude of the periodic solution of the elliptic
+pendulum, zeta = 0.01, 0 < omega/omega0 < 0.9 (linearized, from sweeps/pendulum.toml)."""
+
+from __future__ import annotations
+
+import pathlib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import periodyn.results  # noqa: E402
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    ds = periodyn.results.ensure("pendulum")
+    r = ds["omega_over_omega0"].values
+    amp = ds["amplitude"].sel(output="phi").values
+    keep = r <= 0.9
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(r[keep], amp[keep], "k-", lw=1.2, label="linearized (harmonic balance)")
+    ax.set_xlabel(r"$\omega/\omega_0$")
+    ax.set_ylabel(r"$\Delta\hat\varphi$ [rad]")
+    ax.set_xlim(0, 0.9)
+    ax.set_ylim(0, None)
+    ax.set_title(r"Elliptic pendulum, $\zeta = 0.01$ (Fig. 2)")
+    ax.legend(loc="upper left")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / "fig02_pendulum_amplitude.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return [path]
+
+
+if __name__ == "__main__":
+    print(*main(pathlib.Path(__file__).parent / "png"), sep="\n")

@@ -1,0 +1,41 @@
+"""The per-model speed solver (Hill/HB blocks as polynomials in omega) against the
+direct per-speed path and the monodromy matrix."""
+
+import numpy as np
+import pytest
+
+import periodyn
+from periodyn.analysis import SpeedSolver, solve_point
+from periodyn.examples.chain import parametric_chain
+
+from ..conftest import assert_same_spectrum
+
+
+@pytest.mark.parametrize("form", ["direct", "inverse-mass"])
+@pytest.mark.parametrize("builder,m,speeds", [
+    (lambda: periodyn.examples.pendulum(samples=36), 8, (0.7, 2.3, 3.4, 4.4)),
+    (lambda: parametric_chain(3, samples=64), 10, (11.0, 40.0, 97.0)),
+])
+def test_speed_solver_equals_direct_path(builder, m, speeds, form):
+    model = builder()
+    solver = SpeedSolver(model, m, form=form)
+    for w in speeds:
+        a, b = solver.solve(w), solve_point(model.at(w), m, form=form)
+        np.testing.assert_allclose(a.output_harmonics, b.output_harmonics, atol=1e-12 * np.abs(b.output_harmonics).max())
+        np.testing.assert_allclose(a.amplitude, b.amplitude, rtol=1e-10)
+        assert_same_spectrum(a.multipliers, b.multipliers, atol=1e-10)
+        assert a.stable == b.stable
+
+
+def test_speed_solver_sparse_exponents_match_monodromy():
+    model = parametric_chain(4, samples=64)
+    solver = SpeedSolver(model, 12, method="sparse")
+    for w in (15.0, 60.0):
+        mono = periodyn.characteristic_exponents(model.at(w), 0, "monodromy")
+        assert_same_spectrum(solver.solve(w).multipliers, mono.multipliers, atol=1e-8)
+
+
+def test_speed_solver_rejects_bad_speed():
+    solver = SpeedSolver(periodyn.examples.pendulum(), 4)
+    with pytest.raises(periodyn.InputError, match="positive"):
+        solver.solve(-1.0)
