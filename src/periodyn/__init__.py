@@ -9,6 +9,8 @@ from .analysis import PointResult, solve_point
 from .errors import ConvergenceError, InputError
 from .hb import AliasingWarning, PeriodicSolution, periodic_solution
 from .hill import FloquetExponents, characteristic_exponents, hill_exponents
+from .results import load
+from .sweep import sweep
 from .system import OmegaSplitModel, RheoLinear
 from .transient import Transient, transient
 
@@ -17,5 +19,5 @@ __version__ = "0.1.0"
 __all__ = [
     "AliasingWarning", "ConvergenceError", "FloquetExponents", "InputError", "OmegaSplitModel",
     "PeriodicSolution", "PointResult", "RheoLinear", "Transient", "characteristic_exponents", "examples",
-    "hill_exponents", "periodic_solution", "solve_point", "transient",
+    "hill_exponents", "load", "periodic_solution", "solve_point", "sweep", "transient",
 ]

@@ -1,0 +1,246 @@
+"""Command line: ``periodyn sweep | figures | bench | info`` (see ``periodyn --help``).
+
+Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input (a message
+naming the problem, never a traceback), 130 interrupted (finished chunks are kept).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+import pyfftw
+import pyfftw.config
+
+from .config import load_sweep_file, project_root
+from .errors import ConvergenceError, InputError
+from .plotting import plot_sweep, save_figure, speed_axis, unstable_spans
+from .results import package_versions
+from .sweep import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, sweep_file
+
+__all__ = ["main", "build_parser"]
+
+_EPILOG = """examples:
+  periodyn sweep sweeps/pendulum.toml --plot results/pendulum.png
+  periodyn sweep sweeps/pendulum.toml --omega 0.5:0.6:2000 --workers 2 --out results/zoom.nc
+  periodyn sweep sweeps/pendulum.toml --resume          # continue an interrupted sweep
+  periodyn figures                                      # every figure into figures/png/
+  periodyn bench sweep
+  periodyn info
+"""
+
+
+def _omega_range(text: str) -> tuple[float, float, int]:
+    parts = text.split(":")
+    try:
+        if len(parts) != 3:
+            raise ValueError
+        start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--omega takes start:stop:num (e.g. 0.1:1.4:500), got {text!r}") from None
+    if not (start > 0 and stop > 0 and num >= 1):
+        raise argparse.ArgumentTypeError(f"--omega needs start > 0, stop > 0 and num >= 1, got {text!r}")
+    return start, stop, num
+
+
+def _workers(text: str) -> int | str:
+    if text == "auto":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--workers takes a number of processes or 'auto', got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"--workers must be >= 0 (0 = all cores), got {value}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="periodyn", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=_EPILOG,
+        description="Periodic vibrations, transients and stability of driven mechanisms and rotors "
+                    "over large speed sweeps.")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    sw = commands.add_parser("sweep", help="run a sweep file and write its results (and a figure)",
+                             description="Run the sweep described by a TOML sweep file (see sweeps/*.toml and "
+                                         "periodyn.config) and write one netCDF result file.")
+    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml")
+    sw.add_argument("--omega", type=_omega_range, metavar="START:STOP:NUM",
+                    help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit")
+    sw.add_argument("--out", type=Path, metavar="FILE", help="result file (default results/<name>.nc)")
+    sw.add_argument("--plot", type=Path, metavar="FILE",
+                    help="also draw amplitude per output (unstable points marked) and max Re exponent")
+    sw.add_argument("--resume", action="store_true",
+                    help="continue an interrupted sweep of the same file and --out, computing only missing points")
+    sw.add_argument("--workers", type=_workers, default="auto", metavar="N",
+                    help="worker processes; 0 = all cores; 'auto' (default): all cores for sweeps of "
+                         f"{AUTO_PARALLEL_POINTS}+ points, else 1; with --scheduler local: Dask workers")
+    sw.add_argument("--scheduler", metavar="ADDR",
+                    help="run on a Dask cluster: its scheduler address (tcp://host:8786), or 'local' to start "
+                         "a local Dask cluster of --workers processes")
+    sw.add_argument("--chunk-size", type=int, metavar="N",
+                    help="points per chunk (checkpoint granularity); default: up to 128, 8+ chunks per worker")
+    sw.add_argument("--quiet", "-q", action="store_true", help="no progress output and no summary")
+
+    fg = commands.add_parser("figures", help="regenerate figures from figures/fig*.py",
+                             description="Run the figure scripts figures/fig*.py (each has "
+                                         "main(out_dir) -> list of paths); missing sweep results are computed.")
+    fg.add_argument("names", nargs="*", metavar="NAME", help="scripts to run, by name or prefix (default: all)")
+    fg.add_argument("--out-dir", type=Path, metavar="DIR", help="output folder (default figures/png/)")
+    fg.add_argument("--list", action="store_true", help="list the figure scripts and exit")
+
+    bn = commands.add_parser("bench", help="run benchmarks/bench_*.py",
+                             description="Run the benchmark scripts benchmarks/bench_*.py, each in its own "
+                                         "process; they print their measurements.")
+    bn.add_argument("names", nargs="*", metavar="NAME", help="benchmarks, e.g. 'sweep' for bench_sweep.py "
+                                                              "(default: all)")
+    bn.add_argument("--list", action="store_true", help="list the benchmarks and exit")
+
+    commands.add_parser("info", help="versions, cores, threads, BLAS and FFTW",
+                        description="Print package versions, CPU cores, thread settings, BLAS and FFTW details.")
+    return parser
+
+
+# ----------------------------------------------------------------------------- sweep
+def _summary(ds, out: Path, elapsed: float) -> list[str]:
+    points = int(ds.attrs["points"])
+    lines = [f"{ds.attrs['model']}: {points} points, {ds.attrs['failed_points']} failed, {elapsed:.1f} s "
+             f"({points / max(elapsed, 1e-9):.0f} points/s); wrote {out}"]
+    if ds["stable"].ndim == 1 and int(ds.attrs.get("stability", 1)):
+        x, label = speed_axis(ds)
+        spans = unstable_spans(x, ds["stable"].values)
+        text = ", ".join(f"[{a:.4g}, {b:.4g}]" for a, b in spans) or "none"
+        lines.append(f"unstable (or failed) points, {label}: {text}")
+    return lines
+
+
+def _cmd_sweep(args) -> int:
+    spec = load_sweep_file(args.file)
+    out = args.out or Path("results") / f"{spec.name}.nc"
+    workers = args.workers
+    if workers == "auto" and args.scheduler:
+        workers = available_cores()
+    start = time.perf_counter()
+    ds = sweep_file(spec, omega=args.omega, out=out, workers=workers, scheduler=args.scheduler,
+                    resume=args.resume, progress=False if args.quiet else None, chunk_size=args.chunk_size)
+    elapsed = time.perf_counter() - start
+    if args.plot:
+        save_figure(plot_sweep(ds, title=f"{spec.name}: {spec.description.strip().splitlines()[0]}"
+                               if spec.description.strip() else spec.name), args.plot)
+    if not args.quiet:
+        print("\n".join(_summary(ds, out, elapsed)))
+        if args.plot:
+            print(f"figure: {args.plot}")
+    return 0
+
+
+# ----------------------------------------------------------------------------- scripts
+def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[Path]:
+    found = sorted(folder.glob(pattern))
+    if not names:
+        return found
+    chosen = []
+    for name in names:
+        matches = [p for p in found if p.stem == name or p.stem == prefix + name
+                   or p.stem.startswith(name) or p.stem.startswith(prefix + name)]
+        if not matches:
+            known = ", ".join(p.stem for p in found) or f"none in {folder}"
+            raise InputError(f"no script matches '{name}'; available: {known}")
+        chosen.extend(m for m in matches if m not in chosen)
+    return chosen
+
+
+def _cmd_figures(args) -> int:
+    root = project_root()
+    scripts = _scripts(root / "figures", "fig*.py", "fig", args.names)
+    if args.list or not scripts:
+        print("\n".join(p.stem for p in scripts) or f"no figure scripts in {root / 'figures'}")
+        return 0
+    out_dir = args.out_dir.resolve() if args.out_dir else root / "figures" / "png"
+    failed = []
+    previous = Path.cwd()
+    os.chdir(root)  # scripts find sweeps/ and results/ from the project root
+    try:
+        for script in scripts:
+            start = time.perf_counter()
+            try:
+                spec = importlib.util.spec_from_file_location(f"periodyn_figure_{script.stem}", script)
+                module = importlib.util.module_from_spec(spec)
+                spec.loader.exec_module(module)
+                paths = module.main(out_dir)
+            except Exception as exc:  # one broken script must not stop the others
+                failed.append(script.stem)
+                print(f"{script.stem}: FAILED ({type(exc).__name__}: {exc})", file=sys.stderr)
+                continue
+            print(f"{script.stem} ({time.perf_counter() - start:.1f} s): " + ", ".join(str(p) for p in paths))
+    finally:
+        os.chdir(previous)
+    if failed:
+        print(f"{len(failed)} of {len(scripts)} figure scripts failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_bench(args) -> int:
+    root = project_root()
+    scripts = _scripts(root / "benchmarks", "bench_*.py", "bench_", args.names)
+    if args.list or not scripts:
+        print("\n".join(p.stem for p in scripts) or f"no benchmarks in {root / 'benchmarks'}")
+        return 0
+    status = 0
+    for script in scripts:
+        print(f"== {script.stem}", flush=True)
+        status = max(status, subprocess.call([sys.executable, str(script)], cwd=root))
+    return 1 if status else 0
+
+
+def _cmd_info(args) -> int:
+    print("periodyn environment")
+    for name, version in package_versions().items():
+        print(f"  {name:12s} {version}")
+    print(f"  platform     {platform.platform()}")
+    print(f"cores: {os.cpu_count()} logical, {available_cores()} usable by this process")
+    print(f"numba: {numba.config.NUMBA_NUM_THREADS} threads, threading layer '{numba.config.THREADING_LAYER}'")
+    blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+    print(f"BLAS: {blas.get('name')} {blas.get('version')}")
+    for var in WORKER_THREAD_ENV:
+        print(f"  {var}={os.environ.get(var, '(unset)')}")
+    print(f"sweep workers run with: {', '.join(f'{k}={v}' for k, v in WORKER_THREAD_ENV.items())}")
+    wisdom = pyfftw.export_wisdom()
+    print(f"FFTW (pyfftw {pyfftw.__version__}): SIMD alignment {pyfftw.simd_alignment} bytes, "
+          f"default threads {pyfftw.config.NUM_THREADS}, planner {pyfftw.config.PLANNER_EFFORT}, "
+          f"wisdom {len(wisdom[0])}/{len(wisdom[1])}/{len(wisdom[2])} bytes (double/single/long double)")
+    return 0
+
+
+_COMMANDS = {"sweep": _cmd_sweep, "figures": _cmd_figures, "bench": _cmd_bench, "info": _cmd_info}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``periodyn`` console script; returns the exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        return _COMMANDS[args.command](args)
+    except InputError as exc:
+        print(f"periodyn {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except ConvergenceError as exc:
+        print(f"periodyn {args.command}: failed: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        hint = "; finished chunks are kept, continue with --resume" if args.command == "sweep" else ""
+        print(f"periodyn {args.command}: interrupted{hint}", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

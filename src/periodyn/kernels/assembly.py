@@ -1,0 +1,344 @@
+"""Generic assembly over element families: constraint equations, Newton solution of the
+transfer function ``x = F(q)``, its derivatives by implicit differentiation, nodal
+inertia/elastic arrays and the reduced linearized equations (eq. 5, 7, 9, 10 of
+Schwab & Meijaard 2001) per sample, parallel over samples with ``prange``.
+
+Nothing here assumes two dimensions: a family is dispatched by its integer id to its
+deformation / inertia kernel, and all local arrays are padded to MAX_DOF / MAX_MODE.
+
+Constraint equations ``Phi(x) = b(q) = rhs0 + rhs_q q`` with one row per fixed,
+prescribed or dynamic nodal coordinate (``Phi = x_i``) and per rigid, prescribed or
+flexible deformation mode (``Phi = D_k(x)``); ``q = [q^r, q^d]``.
+"""
+
+from collections import namedtuple
+
+import numpy as np
+from numba import njit, prange
+
+from .layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS, MAX_DOF, MAX_MODE
+from . import planar_beam, planar_hinge, planar_truss
+from .elastic import add_elastic
+
+ModelArrays = namedtuple("ModelArrays", [
+    "family",       # (ne,) int64 family id
+    "dofs",         # (ne, MAX_DOF) int64 global nodal-coordinate index, -1 padded
+    "ndof",         # (ne,) int64
+    "par",          # (ne, 3) float geometric parameters of the family
+    "modes",        # (ne, MAX_MODE) int64 global mode index, -1 padded
+    "nmode",        # (ne,) int64
+    "stiffness",    # (ne, MAX_MODE, MAX_MODE) Kelvin-Voigt S (flexible/free modes only)
+    "damping",      # (ne, MAX_MODE, MAX_MODE) Kelvin-Voigt S_d, s * S units
+    "mass",         # (ne, 4, 4) interpolation mass coefficients, kg
+    "weights",      # (ne, 4) interpolation weights for distributed gravity, kg
+    "rotary",       # (ne, 3, 3) rotary-inertia interpolation coefficients, kg m^2
+    "gravity",      # (dim,) m/s^2
+    "mode_row",     # (n_modes,) int64 constraint row or -1 (free mode)
+    "coord_row",    # (n_x,) int64 constraint row or -1 (dependent coordinate)
+    "rhs0",         # (n_x,) constant part of b
+    "rhs_q",        # (n_x, n_q) b = rhs0 + rhs_q q
+    "n_input",      # int, q^r = q[:n_input], q^d = q[n_input:]
+    "nodal_mass",   # (n_x,) point masses / rotational inertias, kg or kg m^2
+    "nodal_force",  # (n_x,) constant forces (N) / torques (N m) incl. gravity on point masses
+])
+
+
+@njit(cache=True)
+def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
+    """Deformation modes and derivatives of every element at nodal coordinates x (n_x,):
+    overwrites D (ne, MAX_MODE), Dx (ne, MAX_MODE, MAX_DOF), Dxx (..., MAX_DOF),
+    Dxxx (..., MAX_DOF, MAX_DOF)."""
+    xe = np.zeros(MAX_DOF)
+    for e in range(arr.family.shape[0]):
+        nd = arr.ndof[e]
+        for a in range(nd):
+            xe[a] = x[arr.dofs[e, a]]
+        fam = arr.family[e]
+        if fam == FAMILY_PLANAR_BEAM:
+            planar_beam.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_PLANAR_TRUSS:
+            planar_truss.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_PLANAR_HINGE:
+            planar_hinge.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+
+
+@njit(cache=True)
+def allocate_tensors(arr):
+    """Zeroed element tensors D, Dx, Dxx, Dxxx for :func:`element_tensors`."""
+    ne = arr.family.shape[0]
+    return (np.zeros((ne, MAX_MODE)), np.zeros((ne, MAX_MODE, MAX_DOF)),
+            np.zeros((ne, MAX_MODE, MAX_DOF, MAX_DOF)), np.zeros((ne, MAX_MODE, MAX_DOF, MAX_DOF, MAX_DOF)))
+
+
+@njit(cache=True)
+def constraints(arr, x, D, Dx, Phi, J):
+    """Overwrite Phi (n_x,) and its Jacobian J (n_x, n_x) from element tensors D, Dx."""
+    Phi[:] = 0.0
+    J[:] = 0.0
+    for i in range(x.shape[0]):
+        row = arr.coord_row[i]
+        if row >= 0:
+            Phi[row] = x[i]
+            J[row, i] = 1.0
+    for e in range(arr.family.shape[0]):
+        for k in range(arr.nmode[e]):
+            row = arr.mode_row[arr.modes[e, k]]
+            if row < 0:
+                continue
+            Phi[row] = D[e, k]
+            for a in range(arr.ndof[e]):
+                J[row, arr.dofs[e, a]] += Dx[e, k, a]
+
+
+@njit(cache=True)
+def contract2(arr, Dxx, u, w, out):
+    """out (n_x,) = Phi_xx[u, w] for nodal vectors u, w (n_x,)."""
+    out[:] = 0.0
+    for e in range(arr.family.shape[0]):
+        nd = arr.ndof[e]
+        for k in range(arr.nmode[e]):
+            row = arr.mode_row[arr.modes[e, k]]
+            if row < 0:
+                continue
+            s = 0.0
+            for a in range(nd):
+                ua = u[arr.dofs[e, a]]
+                if ua == 0.0:
+                    continue
+                for b in range(nd):
+                    s += Dxx[e, k, a, b] * ua * w[arr.dofs[e, b]]
+            out[row] = s
+
+
+@njit(cache=True)
+def contract3(arr, Dxxx, u, w, z, out):
+    """out (n_x,) = Phi_xxx[u, w, z] for nodal vectors u, w, z (n_x,)."""
+    out[:] = 0.0
+    for e in range(arr.family.shape[0]):
+        nd = arr.ndof[e]
+        for k in range(arr.nmode[e]):
+            row = arr.mode_row[arr.modes[e, k]]
+            if row < 0:
+                continue
+            s = 0.0
+            for a in range(nd):
+                ua = u[arr.dofs[e, a]]
+                if ua == 0.0:
+                    continue
+                for b in range(nd):
+                    wb = w[arr.dofs[e, b]]
+                    if wb == 0.0:
+                        continue
+                    for c in range(nd):
+                        s += Dxxx[e, k, a, b, c] * ua * wb * z[arr.dofs[e, c]]
+            out[row] = s
+
+
+@njit(cache=True)
+def newton(arr, x, b, tol, max_iter):
+    """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
+    inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
+    2 = singular Jacobian."""
+    n = x.shape[0]
+    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
+    Phi = np.empty(n)
+    J = np.empty((n, n))
+    res = np.inf
+    for it in range(max_iter + 1):
+        element_tensors(arr, x, D, Dx, Dxx, Dxxx)
+        constraints(arr, x, D, Dx, Phi, J)
+        res = np.max(np.abs(Phi - b))
+        if res <= tol:
+            return it, res, 0
+        if it == max_iter:
+            break
+        if it == 0 and np.linalg.cond(J) > 1e13:
+            return it, res, 2
+        x -= np.linalg.solve(J, Phi - b)
+    return max_iter, res, 1
+
+
+@njit(cache=True)
+def input_jacobian(arr, x):
+    """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
+    n = x.shape[0]
+    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
+    Phi = np.empty(n)
+    J = np.empty((n, n))
+    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
+    constraints(arr, x, D, Dx, Phi, J)
+    return np.linalg.solve(J, arr.rhs_q)
+
+
+@njit(cache=True)
+def track(arr, x0, q0, q_targets, tol, max_iter, max_halvings, X, info):
+    """Follow the configuration from (x0, q0) through q_targets (p, n_q) sequentially,
+    Newton with a first-order predictor and step halving; writes X (p, n_x) and
+    info (p, 2) = (iterations, residual). Returns -1 on success or the index of the
+    first target that failed (flag in info[j, 0] = -1 singular, -2 no convergence)."""
+    x = x0.copy()
+    q = q0.copy()
+    for j in range(q_targets.shape[0]):
+        target = q_targets[j]
+        step = target - q
+        fraction = 1.0
+        done = 0.0
+        total_it = 0
+        halvings = 0
+        while done < 1.0:
+            fraction = min(fraction, 1.0 - done)
+            dq = fraction * step
+            Fq = input_jacobian(arr, x)
+            trial = x + Fq @ dq
+            b = arr.rhs0 + arr.rhs_q @ (q + dq)
+            it, res, flag = newton(arr, trial, b, tol, max_iter)
+            total_it += it
+            if flag == 0:
+                x = trial
+                q = q + dq
+                done += fraction
+                info[j, 1] = res
+            else:
+                halvings += 1
+                if halvings > max_halvings:
+                    info[j, 0] = -1.0 if flag == 2 else -2.0
+                    info[j, 1] = res
+                    return j
+                fraction *= 0.5
+        X[j] = x
+        info[j, 0] = total_it
+    return -1
+
+
+@njit(cache=True)
+def motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda):
+    """Transfer-function derivatives at a solved configuration x for input rates qdot,
+    qddot (n_q,) (all of q, dynamic included). Overwrites
+    v = F_q qdot, a = F_q qddot + F_qq qdot qdot (n_x,), Fd = F_q^d (n_x, n_d),
+    Fdv = F_{q^d q} qdot (n_x, n_d), Fdd = F_{q^d q^d} (n_x, n_d, n_d),
+    Fda = F_{q^d q} qddot + F_{q^d q q} qdot qdot (n_x, n_d)."""
+    n = x.shape[0]
+    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
+    Phi = np.empty(n)
+    J = np.empty((n, n))
+    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
+    constraints(arr, x, D, Dx, Phi, J)
+    Jinv = np.linalg.inv(J)
+    Fq = Jinv @ arr.rhs_q
+    nr = arr.n_input
+    nd = Fq.shape[1] - nr
+    v[:] = Fq @ qdot
+    tmp = np.empty(n)
+    contract2(arr, Dxx, v, v, tmp)
+    a[:] = Jinv @ (arr.rhs_q @ qddot - tmp)
+    FdT = np.ascontiguousarray(Fq[:, nr:].T)  # (nd, n): rows are the columns of F_q^d
+    Fd[:] = FdT.T
+    # right-hand sides of the implicit differentiation, one row each, solved together
+    rhs_v = np.empty((nd, n))
+    rhs_dd = np.empty((nd * nd, n))
+    for i in range(nd):
+        contract2(arr, Dxx, FdT[i], v, rhs_v[i])
+        for j in range(i, nd):
+            contract2(arr, Dxx, FdT[i], FdT[j], rhs_dd[i * nd + j])
+            rhs_dd[j * nd + i] = rhs_dd[i * nd + j]
+    FdvT = -(Jinv @ rhs_v.T).T
+    Fdv[:] = FdvT.T
+    Fdd[:] = (-(Jinv @ rhs_dd.T)).reshape(n, nd, nd)
+    rhs_a = np.empty((nd, n))
+    tmp2 = np.empty(n)
+    for i in range(nd):
+        contract3(arr, Dxxx, FdT[i], v, v, rhs_a[i])
+        contract2(arr, Dxx, FdT[i], a, tmp)
+        contract2(arr, Dxx, np.ascontiguousarray(FdvT[i]), v, tmp2)
+        rhs_a[i] += tmp + 2.0 * tmp2
+    Fda[:] = -(Jinv @ rhs_a.T)
+    return D, Dx, Dxx
+
+
+@njit(cache=True)
+def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
+    """Global nodal arrays at (x, v, a): overwrites M (n_x,n_x), r = M a - f (n_x,),
+    C = -f_v, K = (M a - f)_x (n_x, n_x), from point masses, loads and all elements."""
+    n = x.shape[0]
+    M[:] = 0.0
+    C[:] = 0.0
+    K[:] = 0.0
+    for i in range(n):
+        M[i, i] = arr.nodal_mass[i]
+        r[i] = arr.nodal_mass[i] * a[i] - arr.nodal_force[i]
+    xe = np.zeros(MAX_DOF)
+    ve = np.zeros(MAX_DOF)
+    ae = np.zeros(MAX_DOF)
+    Me = np.zeros((MAX_DOF, MAX_DOF))
+    re = np.zeros(MAX_DOF)
+    Ce = np.zeros((MAX_DOF, MAX_DOF))
+    Ke = np.zeros((MAX_DOF, MAX_DOF))
+    for e in range(arr.family.shape[0]):
+        nd = arr.ndof[e]
+        for i in range(nd):
+            g = arr.dofs[e, i]
+            xe[i] = x[g]
+            ve[i] = v[g]
+            ae[i] = a[g]
+        Me[:] = 0.0
+        re[:] = 0.0
+        Ce[:] = 0.0
+        Ke[:] = 0.0
+        fam = arr.family[e]
+        if fam == FAMILY_PLANAR_BEAM:
+            planar_beam.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
+        elif fam == FAMILY_PLANAR_TRUSS:
+            planar_truss.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
+        add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], re, Ce, Ke)
+        for i in range(nd):
+            gi = arr.dofs[e, i]
+            r[gi] += re[i]
+            for j in range(nd):
+                gj = arr.dofs[e, j]
+                M[gi, gj] += Me[i, j]
+                C[gi, gj] += Ce[i, j]
+                K[gi, gj] += Ke[i, j]
+
+
+@njit(cache=True)
+def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+    """Reduced linearized equations at one configuration x and input rates
+    (qdot, qddot) (n_q,): overwrites Mb, Cb, Kb (n_d, n_d) of eq. (5), (10) and
+    fd (n_d,) = F_d^T (M a - f), the additional forces of eq. (7) (the residual of
+    the reduced equations (4) when qdot, qddot include dynamic rates). Also writes the
+    transfer-function derivatives Fd, Fdv, Fda (n_x, n_d) used by eq. (11)."""
+    n = x.shape[0]
+    nd = Fd.shape[1]
+    v = np.empty(n)
+    a = np.empty(n)
+    Fdd = np.empty((n, nd, nd))
+    D, Dx, Dxx = motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda)
+    M = np.empty((n, n))
+    r = np.empty(n)
+    C = np.empty((n, n))
+    K = np.empty((n, n))
+    nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K)
+    MFd = M @ Fd
+    CFd = C @ Fd
+    Mb[:] = Fd.T @ MFd
+    Cb[:] = Fd.T @ CFd + 2.0 * (MFd.T @ Fdv)
+    Kb[:] = Fd.T @ (K @ Fd) + MFd.T @ Fda + Fd.T @ (C @ Fdv)
+    for i in range(nd):
+        for j in range(nd):
+            s = 0.0
+            for k in range(n):
+                s += r[k] * Fdd[k, i, j]
+            Kb[i, j] += s
+    fd[:] = Fd.T @ r
+
+
+@njit(parallel=True, cache=True)
+def linearize_samples(arr, X, qdots, qddots, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+    """For every sample j (prange) and every rate set s: reduced_sample at X[j] with
+    qdots[s], qddots[s] (S, n_q). Outputs Mb, Cb, Kb (S, p, n_d, n_d), fd (S, p, n_d),
+    Fd, Fdv, Fda (S, p, n_x, n_d)."""
+    p = X.shape[0]
+    for j in prange(p):
+        for s in range(qdots.shape[0]):
+            reduced_sample(arr, X[j], qdots[s], qddots[s], Mb[s, j], Cb[s, j], Kb[s, j], fd[s, j],
+                           Fd[s, j], Fdv[s, j], Fda[s, j])

@@ -1,0 +1,45 @@
+"""Planar truss element: nodes p, q with positions; local coordinates
+``xe = [x_p, y_p, x_q, y_q]`` (m).
+
+Deformation mode (m): elongation ``e1 = l - l0``. par = [l0].
+Inertia: consistent mass of a uniform bar, position linearly interpolated,
+``r(s) = (1-s) x_p + s x_q``; mass[i, j] = rhoA l0 int N_i N_j ds, weights[i] = rhoA l0 int N_i ds.
+"""
+
+import numpy as np
+from numba import njit
+
+from .planar_geometry import chord
+
+
+@njit(cache=True)
+def deformation(xe, par, D, Dx, Dxx, Dxxx):
+    """Overwrite D[0], Dx[0,:4], Dxx[0,:4,:4], Dxxx[0,:4,:4,:4] with the elongation and
+    its derivatives w.r.t. xe (4,)."""
+    n = 4
+    L1 = np.empty(n)
+    L2 = np.empty((n, n))
+    L3 = np.empty((n, n, n))
+    A1 = np.empty(n)
+    A2 = np.empty((n, n))
+    A3 = np.empty((n, n, n))
+    length, _ = chord(xe, 0, 2, L1, L2, L3, A1, A2, A3)
+    D[0] = length - par[0]
+    Dx[0, :n] = L1
+    Dxx[0, :n, :n] = L2
+    Dxxx[0, :n, :n, :n] = L3
+
+
+@njit(cache=True)
+def inertia(xe, ve, ae, mass, weights, rotary, gravity, par, M, r, C, K):
+    """Add the bar's mass matrix to M (4,4) and ``M a - f_gravity`` to r (4,); the
+    interpolation is linear in xe so C and K get nothing. mass (2,2) kg,
+    weights (2,) kg, gravity (2,) m/s^2; rotary is unused (a bar has no sections'
+    rotary inertia), kept for the common family signature."""
+    for i in range(2):
+        for j in range(2):
+            for c in range(2):
+                M[2 * i + c, 2 * j + c] += mass[i, j]
+                r[2 * i + c] += mass[i, j] * ae[2 * j + c]
+        for c in range(2):
+            r[2 * i + c] -= weights[i] * gravity[c]

@@ -1,0 +1,8 @@
+"""Model description: nodes, element families as data, masses, loads, inputs, outputs."""
+
+from .elements import (FLEXIBLE, FREE, RIGID, IndependentElement, MidpointDeflection, PlanarBeam,
+                       PlanarHinge, PlanarTruss)
+from .model import CompiledModel, Model
+
+__all__ = ["Model", "CompiledModel", "PlanarBeam", "PlanarTruss", "PlanarHinge", "MidpointDeflection",
+           "IndependentElement", "RIGID", "FLEXIBLE", "FREE"]

@@ -1,0 +1,385 @@
+"""Model container: nodes, elements, masses, loads, boundary conditions and inputs,
+compiled once into flat arrays for the kernels.
+
+Nodal coordinates x: every point contributes ``"<point>.x", "<point>.y"`` (m), every
+angle node its own name (rad). Deformation modes are named ``"<element>.<mode>"``.
+Coordinates q = [q^r, q^d]: inputs q^r (prescribed nodal coordinates or modes, each
+``rate * theta`` above its reference value, theta = omega t the crank angle) and dynamic
+coordinates q^d (dynamic nodal coordinates, as deviations from their reference value,
+then flexible modes in element order).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
+from ..kernels.assembly import ModelArrays
+from .elements import (FLEXIBLE, FREE, MODE_STATUSES, PRESCRIBED, RIGID, IndependentElement,
+                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss)
+
+__all__ = ["Model", "CompiledModel"]
+
+
+def _statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, ...]:
+    if modes is None:
+        return (RIGID,) * len(mode_names)
+    if isinstance(modes, str):
+        modes = (modes,) * len(mode_names)
+    if isinstance(modes, dict):
+        unknown = set(modes) - set(mode_names)
+        if unknown:
+            raise InputError(f"element '{name}' has no mode(s) {sorted(unknown)}; its modes are {list(mode_names)}")
+        modes = tuple(modes.get(m, RIGID) for m in mode_names)
+    modes = tuple(modes)
+    if len(modes) != len(mode_names):
+        raise InputError(f"element '{name}' needs {len(mode_names)} mode statuses {list(mode_names)}, got {len(modes)}")
+    for m in modes:
+        if m not in MODE_STATUSES:
+            raise InputError(f"element '{name}': mode status {m!r} unknown; use one of {MODE_STATUSES} "
+                             "(use Model.prescribe for an input mode)")
+    return modes
+
+
+@dataclass(frozen=True, eq=False)
+class CompiledModel:
+    """A model compiled for the kernels (built once per model).
+
+    arrays: :class:`periodyn.kernels.assembly.ModelArrays`; coordinate_names (n_x,),
+    x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
+    q^r = rates * theta, dynamic_names (n_d,), outputs (names, local coordinate
+    indices, reference lengths), independent elements (eq. 11-12).
+    """
+
+    name: str
+    arrays: ModelArrays
+    coordinate_names: tuple[str, ...]
+    x_reference: np.ndarray
+    mode_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    input_rates: np.ndarray
+    dynamic_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    output_dofs: np.ndarray
+    output_lengths: np.ndarray
+    independent: tuple[tuple[IndependentElement, np.ndarray], ...]
+    constraint_labels: tuple[str, ...]
+
+    @property
+    def n_coordinates(self) -> int:
+        return len(self.coordinate_names)
+
+    @property
+    def n_inputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def n_dynamic(self) -> int:
+        return len(self.dynamic_names)
+
+    def inputs(self, theta: float) -> np.ndarray:
+        """q^r at crank angle theta (rad), (n_r,)."""
+        return self.input_rates * float(theta)
+
+
+@dataclass
+class Model:
+    """Builder of a planar flexible multibody model (SI units).
+
+    Typical use: add points/angles with reference values, elements (all modes rigid
+    unless told), masses and loads; fix, prescribe and make dynamic coordinates; add
+    outputs; then :meth:`compile`. Deformations are zero in the reference configuration.
+    """
+
+    name: str = "model"
+    points: dict[str, tuple[float, float]] = field(default_factory=dict)
+    angles: dict[str, float] = field(default_factory=dict)
+    elements: list = field(default_factory=list)
+    point_masses: dict[str, float] = field(default_factory=dict)
+    inertias: dict[str, float] = field(default_factory=dict)
+    loads: dict[str, float] = field(default_factory=dict)
+    gravity: tuple[float, float] = (0.0, 0.0)
+    fixed: list[str] = field(default_factory=list)
+    prescribed: dict[str, float] = field(default_factory=dict)
+    dynamic: list[str] = field(default_factory=list)
+    outputs: list = field(default_factory=list)
+    independent: list[IndependentElement] = field(default_factory=list)
+
+    # ------------------------------------------------------------------ nodes
+    def add_point(self, name: str, position) -> str:
+        """A position node at ``position`` (2,) m."""
+        self._new_node(name)
+        pos = np.asarray(position, dtype=float)
+        if pos.shape != (2,) or not np.all(np.isfinite(pos)):
+            raise InputError(f"point '{name}' needs a finite 2-D position (x, y) in m, got {position!r}")
+        self.points[name] = (float(pos[0]), float(pos[1]))
+        return name
+
+    def add_angle(self, name: str, value: float = 0.0) -> str:
+        """An orientation node with reference angle ``value`` (rad)."""
+        self._new_node(name)
+        self.angles[name] = float(value)
+        return name
+
+    def _new_node(self, name: str) -> None:
+        if not isinstance(name, str) or not name or "." in name:
+            raise InputError(f"node names must be non-empty strings without '.', got {name!r}")
+        if name in self.points or name in self.angles:
+            raise InputError(f"node '{name}' is defined twice; node names must be unique")
+
+    # ------------------------------------------------------------------ elements
+    def _add(self, element):
+        if any(e.name == element.name for e in self.elements):
+            raise InputError(f"element '{element.name}' is defined twice; element names must be unique")
+        for c in element.coordinates():
+            self._check_coordinate(c, f"element '{element.name}'")
+        self.elements.append(element)
+        return element.name
+
+    def add_beam(self, name: str, points: tuple[str, str], angles: tuple[str, str], *, modes=None,
+                 EA: float = 0.0, EI: float = 0.0, mass_per_length: float = 0.0,
+                 kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
+        """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
+        a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
+        st = _statuses(name, modes, PlanarBeam.mode_names)
+        return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
+                                    float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))
+
+    def add_truss(self, name: str, points: tuple[str, str], *, mode: str = RIGID, EA: float = 0.0,
+                  mass_per_length: float = 0.0, kelvin_voigt: float = 0.0) -> str:
+        """Planar truss; mode: status of its elongation."""
+        st = _statuses(name, (mode,), PlanarTruss.mode_names)
+        return self._add(PlanarTruss(name, tuple(points), st, float(EA), float(mass_per_length),
+                                     float(kelvin_voigt)))
+
+    def add_hinge(self, name: str, angles: tuple[str, str], *, mode: str = FREE, stiffness: float = 0.0,
+                  damping: float = 0.0) -> str:
+        """Planar hinge between two angle nodes; mode: status of the relative rotation
+        (default free: follows from the kinematics, with its spring/damper)."""
+        st = _statuses(name, (mode,), PlanarHinge.mode_names)
+        return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping)))
+
+    # ------------------------------------------------------------------ masses and loads
+    def add_mass(self, point: str, mass: float) -> None:
+        """Point mass (kg) at a position node."""
+        self._check_node(point, self.points, "point mass")
+        self.point_masses[point] = self.point_masses.get(point, 0.0) + float(mass)
+
+    def add_inertia(self, angle: str, inertia: float) -> None:
+        """Rotational inertia (kg m^2) at an angle node."""
+        self._check_node(angle, self.angles, "rotational inertia")
+        self.inertias[angle] = self.inertias.get(angle, 0.0) + float(inertia)
+
+    def add_force(self, point: str, force) -> None:
+        """Constant force (2,) N at a point."""
+        self._check_node(point, self.points, "force")
+        fx, fy = np.asarray(force, dtype=float)
+        for c, f in ((f"{point}.x", fx), (f"{point}.y", fy)):
+            self.loads[c] = self.loads.get(c, 0.0) + float(f)
+
+    def add_torque(self, angle: str, torque: float) -> None:
+        """Constant torque (N m) on an angle node."""
+        self._check_node(angle, self.angles, "torque")
+        self.loads[angle] = self.loads.get(angle, 0.0) + float(torque)
+
+    def set_gravity(self, acceleration) -> None:
+        """Uniform gravity field (2,) m/s^2 acting on point masses and distributed masses."""
+        g = np.asarray(acceleration, dtype=float)
+        if g.shape != (2,):
+            raise InputError(f"gravity must be a 2-vector in m/s^2, got {acceleration!r}")
+        self.gravity = (float(g[0]), float(g[1]))
+
+    # ------------------------------------------------------------------ coordinates
+    def fix(self, name: str) -> None:
+        """Fix a nodal coordinate (``"A.y"``, an angle name) or all coordinates of a point."""
+        for c in self._expand(name):
+            self.fixed.append(c)
+
+    def prescribe(self, name: str, rate: float = 1.0) -> None:
+        """Make a nodal coordinate or a mode (``"<element>.<mode>"``) an input
+        ``q^r = reference + rate * theta`` with theta = omega t."""
+        if name not in set(self._coordinate_names()):
+            if name.count(".") != 1 or name.split(".")[0] not in {e.name for e in self.elements}:
+                raise InputError(f"prescribe: '{name}' is neither a nodal coordinate ('<point>.x', an angle) "
+                                 "nor a mode '<element>.<mode>' of an existing element")
+            self._mode(name)
+        if name in self.prescribed:
+            raise InputError(f"'{name}' is prescribed twice")
+        self.prescribed[name] = float(rate)
+
+    def make_dynamic(self, coordinate: str) -> None:
+        """Make a nodal coordinate a dynamic degree of freedom (deviation from its reference)."""
+        self._check_coordinate(coordinate, "make_dynamic")
+        self.dynamic.append(coordinate)
+
+    def add_midpoint_deflection(self, name: str, ends: tuple[str, str], mid: str, reference_length: float) -> None:
+        """Output: distance of ``mid`` from the line through ``ends`` over reference_length."""
+        for p in (*ends, mid):
+            self._check_node(p, self.points, f"output '{name}'")
+        if not reference_length > 0:
+            raise InputError(f"output '{name}': reference_length must be positive, got {reference_length!r}")
+        self.outputs.append(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
+
+    def add_independent(self, element: IndependentElement) -> None:
+        """An independently modelled element (eq. 11-12), added to the linearized equations."""
+        for c in element.coordinates:
+            self._check_coordinate(c, f"independent element '{element.name}'")
+        if len(element.stiffness) > 3 or len(element.damping) > 2:
+            raise InputError(f"independent element '{element.name}': stiffness may have at most 3 omega powers "
+                             "and damping at most 2, so the linearized equations stay quadratic in omega")
+        self.independent.append(element)
+
+    # ------------------------------------------------------------------ checks
+    def _check_node(self, name, table, what):
+        if name not in table:
+            kind = "point" if table is self.points else "angle"
+            raise InputError(f"{what}: unknown {kind} node '{name}'; add it with add_{kind}() first")
+
+    def _coordinate_names(self) -> list[str]:
+        """Points' (x, y) in insertion order, then the angles; matches the reference vector."""
+        return [f"{p}.{c}" for p in self.points for c in "xy"] + list(self.angles)
+
+    def _check_coordinate(self, name, what):
+        if name not in set(self._coordinate_names()):
+            raise InputError(f"{what}: unknown nodal coordinate '{name}'; use '<point>.x', '<point>.y' or an angle name")
+
+    def _expand(self, name):
+        if name in self.points:
+            return [f"{name}.x", f"{name}.y"]
+        self._check_coordinate(name, "fix")
+        return [name]
+
+    def _mode(self, name):
+        el, mode = name.split(".")
+        element = next(e for e in self.elements if e.name == el)
+        if mode not in element.mode_names:
+            raise InputError(f"element '{el}' has no mode '{mode}'; its modes are {list(element.mode_names)}")
+        return element, element.mode_names.index(mode)
+
+    # ------------------------------------------------------------------ compile
+    def compile(self) -> CompiledModel:
+        """Flatten into kernel arrays and check that the constraints determine every
+        nodal coordinate exactly once in the reference configuration."""
+        from ..kinematics import check_constraints
+
+        coords = self._coordinate_names()
+        index = {c: i for i, c in enumerate(coords)}
+        n_x = len(coords)
+        x_ref = np.array([v for p in self.points.values() for v in p] + list(self.angles.values()))
+        # coordinate statuses
+        status: dict[str, str] = {}
+        for group, label in ((self.fixed, "fixed"), (self.dynamic, "dynamic"),
+                             ([c for c in self.prescribed if c in index], PRESCRIBED)):
+            for c in group:
+                if c in status:
+                    raise InputError(f"nodal coordinate '{c}' is both {status[c]} and {label}; choose one")
+                status[c] = label
+        # modes
+        mode_names, mode_status = [], []
+        for e in self.elements:
+            for m, st in zip(e.mode_names, e.modes):
+                full = f"{e.name}.{m}"
+                mode_names.append(full)
+                mode_status.append(PRESCRIBED if full in self.prescribed else st)
+        input_names = list(self.prescribed)
+        dynamic_names = list(self.dynamic) + [m for m, s in zip(mode_names, mode_status) if s == FLEXIBLE]
+        q_names = input_names + dynamic_names
+        q_index = {c: i for i, c in enumerate(q_names)}
+        n_q = len(q_names)
+
+        coord_row = -np.ones(n_x, dtype=np.int64)
+        mode_row = -np.ones(len(mode_names), dtype=np.int64)
+        rhs0 = np.zeros(n_x)
+        rhs_q = np.zeros((n_x, n_q))
+        labels = []
+        row = 0
+        for c in coords:
+            if c in status:
+                coord_row[index[c]] = row
+                rhs0[row] = x_ref[index[c]]
+                if c in q_index:
+                    rhs_q[row, q_index[c]] = 1.0
+                labels.append(f"{status[c]} coordinate '{c}'")
+                row += 1
+        n_eq = len(status) + sum(s != FREE for s in mode_status)
+        if n_eq != n_x:
+            dependent = [c for c in coords if c not in status]
+            constrained = [m for m, s in zip(mode_names, mode_status) if s != FREE]
+            over = n_eq > n_x
+            fix = ("make a mode free or remove a fixed/prescribed coordinate" if over
+                   else "make a free mode rigid, fix a coordinate or add an input")
+            raise InputError(
+                f"model '{self.name}' is {'over' if over else 'under'}-constrained: {n_x} nodal coordinates but "
+                f"{n_eq} equations ({len(status)} fixed/prescribed/dynamic coordinates + {len(constrained)} "
+                f"rigid/prescribed/flexible modes); {fix}. Constrained modes: {constrained}; "
+                f"coordinates left to the modes: {dependent}")
+        for k, (m, s) in enumerate(zip(mode_names, mode_status)):
+            if s == FREE:
+                continue
+            mode_row[k] = row
+            if m in q_index:
+                rhs_q[row, q_index[m]] = 1.0
+            labels.append(f"{s} mode '{m}'")
+            row += 1
+
+        ne = len(self.elements)
+        family = np.zeros(ne, dtype=np.int64)
+        dofs = -np.ones((ne, MAX_DOF), dtype=np.int64)
+        ndof = np.zeros(ne, dtype=np.int64)
+        par = np.zeros((ne, 3))
+        modes = -np.ones((ne, MAX_MODE), dtype=np.int64)
+        nmode = np.zeros(ne, dtype=np.int64)
+        stiff = np.zeros((ne, MAX_MODE, MAX_MODE))
+        damp = np.zeros((ne, MAX_MODE, MAX_MODE))
+        mass = np.zeros((ne, MAX_INTERP, MAX_INTERP))
+        weights = np.zeros((ne, MAX_INTERP))
+        rotary = np.zeros((ne, MAX_MODE, MAX_MODE))
+        k0 = 0
+        for e, el in enumerate(self.elements):
+            loc = [index[c] for c in el.coordinates()]
+            family[e] = el.family
+            ndof[e] = len(loc)
+            dofs[e, :len(loc)] = loc
+            par[e] = el.parameters(x_ref[loc])
+            l0 = par[e, 0]
+            if el.family != PlanarHinge.family and not l0 > 0:
+                raise InputError(f"element '{el.name}' has zero length in the reference configuration; move its points apart")
+            nm = len(el.mode_names)
+            nmode[e] = nm
+            modes[e, :nm] = np.arange(k0, k0 + nm)
+            constitutive = np.array([mode_status[k0 + i] in (FLEXIBLE, FREE) for i in range(nm)], dtype=float)
+            mask = np.outer(constitutive, constitutive)
+            stiff[e, :nm, :nm] = el.stiffness_matrix(l0) * mask
+            damp[e, :nm, :nm] = el.damping_matrix(l0) * mask
+            me, we = el.inertia(l0)
+            mass[e, :me.shape[0], :me.shape[1]] = me
+            weights[e, :we.shape[0]] = we
+            section = el.rotary(l0)
+            rotary[e, :section.shape[0], :section.shape[1]] = section
+            k0 += nm
+
+        nodal_mass = np.zeros(n_x)
+        nodal_force = np.zeros(n_x)
+        for p, m in self.point_masses.items():
+            for c, g in ((f"{p}.x", self.gravity[0]), (f"{p}.y", self.gravity[1])):
+                nodal_mass[index[c]] += m
+                nodal_force[index[c]] += m * g
+        for a, J in self.inertias.items():
+            nodal_mass[index[a]] += J
+        for c, f in self.loads.items():
+            nodal_force[index[c]] += f
+
+        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, mass, weights, rotary,
+                             np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
+                             len(input_names), nodal_mass, nodal_force)
+        out_dofs = np.array([[index[c] for c in o.coordinates()] for o in self.outputs], dtype=np.int64).reshape(-1, 6)
+        out_len = np.array([o.reference_length for o in self.outputs])
+        independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
+        compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
+                                 np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),
+                                 tuple(o.name for o in self.outputs), out_dofs, out_len, independent, tuple(labels))
+        check_constraints(compiled)
+        return compiled

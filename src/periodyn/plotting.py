@@ -1,0 +1,107 @@
+"""Drawing sweep results (matplotlib, Agg backend): the ``periodyn sweep --plot`` figure
+and small helpers the scripts in ``figures/`` share. Only reads datasets; computes nothing."""
+
+from __future__ import annotations
+
+import itertools
+import textwrap
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+__all__ = ["speed_axis", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure"]
+
+_MAX_CURVES = 12
+
+
+def speed_axis(ds: xr.Dataset) -> tuple[np.ndarray, str]:
+    """(speeds, axis label): omega/reference when the sweep has a reference frequency,
+    else omega in rad/s."""
+    for name in ds.coords:
+        if str(name).startswith("omega_over_"):
+            reference = str(name)[len("omega_over_"):]
+            return ds[name].values, f"ω / {reference.replace('omega', 'ω', 1)}"
+    return ds["omega"].values, "ω [rad/s]"
+
+
+def unstable_spans(x: np.ndarray, stable: np.ndarray) -> list[tuple[float, float]]:
+    """Intervals [x_first, x_last] of consecutive unstable points, shape-(k,) inputs."""
+    spans, start = [], None
+    for xi, ok in zip(x, stable):
+        if not ok and start is None:
+            start = last = xi
+        elif not ok:
+            last = xi
+        elif start is not None:
+            spans.append((start, last))
+            start = None
+    if start is not None:
+        spans.append((start, last))
+    return spans
+
+
+def shade_unstable(ax, x: np.ndarray, stable: np.ndarray, color: str = "0.88") -> None:
+    """Grey bands behind the speeds where the periodic solution is unstable."""
+    for a, b in unstable_spans(x, stable):
+        ax.axvspan(a, b, color=color, lw=0, zorder=0)
+
+
+def grid_points(ds: xr.Dataset) -> list[dict]:
+    """Selectors of every parameter-grid point (``[{}]`` for a plain speed sweep)."""
+    grid_dims = [d for d in ds["max_real_exponent"].dims if d != "omega"]
+    return [dict(zip(grid_dims, vals)) for vals in itertools.product(*(ds[d].values for d in grid_dims))]
+
+
+def _label(selector: dict, output: str, several_outputs: bool) -> str:
+    parts = [f"{k} = {v:g}" if isinstance(v, (float, np.floating)) else f"{k} = {v}" for k, v in selector.items()]
+    if several_outputs or not parts:
+        parts.insert(0, output)
+    return ", ".join(parts)
+
+
+def plot_sweep(ds: xr.Dataset, title: str | None = None):
+    """Amplitude per output vs speed (log scale, unstable points marked ×, failed points
+    left out) over the largest real part of the characteristic exponents. Returns the Figure."""
+    x, xlabel = speed_axis(ds)
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5), height_ratios=(2, 1))
+    outputs = [str(o) for o in ds["output"].values]
+    curves = [(sel, out) for sel in grid_points(ds) for out in outputs][:_MAX_CURVES]
+    for sel, out in curves:
+        point = ds.sel(sel) if sel else ds
+        amp = point["amplitude"].sel(output=out).values
+        stable = point["stable"].values
+        line, = top.semilogy(x, amp, lw=1.2, label=_label(sel, out, len(outputs) > 1))
+        bad = ~stable & np.isfinite(amp)
+        top.semilogy(x[bad], amp[bad], "x", ms=4, color=line.get_color())
+    for sel in grid_points(ds)[:_MAX_CURVES]:
+        point = ds.sel(sel) if sel else ds
+        bottom.plot(x, point["max_real_exponent"].values, lw=1.2,
+                    label=_label(sel, "", False) if sel else None)
+    if len(grid_points(ds)) == 1:
+        shade_unstable(top, x, ds["stable"].values.reshape(-1))
+        shade_unstable(bottom, x, ds["stable"].values.reshape(-1))
+    bottom.axhline(0.0, color="k", lw=0.7)
+    top.set_ylabel("amplitude (half peak-to-peak)")
+    bottom.set_ylabel("max Re λ [1/s]")
+    bottom.set_xlabel(xlabel)
+    top.plot([], [], "x", color="0.3", label="unstable")
+    top.legend(fontsize=8, loc="best")
+    top.set_title(textwrap.fill(title or ds.attrs.get("title", "sweep"), 90), fontsize=10)
+    top.grid(True, which="major", alpha=0.3)
+    bottom.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def save_figure(fig, path) -> Path:
+    """Save ``fig`` to ``path`` (folders created) and close it."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path

@@ -1,0 +1,74 @@
+"""Progress reporting for long sweeps: a tqdm bar on a terminal, plain lines otherwise.
+
+Nothing is shown for sweeps that finish within ``DELAY`` seconds. ``progress`` options:
+``None`` (automatic), ``False`` (quiet), ``True`` (always a bar), or a callable
+``progress(done, total)`` called after every finished chunk (also shows nothing).
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+import time
+from typing import Callable
+
+from tqdm import tqdm
+
+__all__ = ["Progress"]
+
+DELAY = 1.0  # s before anything is shown
+LINE_INTERVAL = 5.0  # s between plain progress lines
+
+
+def _seconds(s: float) -> str:
+    s = int(round(s))
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}" if s >= 3600 else f"{s // 60}:{s % 60:02d}"
+
+
+class Progress:
+    """Counts finished sweep points: ``update(n)``; use as a context manager."""
+
+    def __init__(self, total: int, initial: int = 0, description: str = "sweep",
+                 mode: bool | None | Callable[[int, int], None] = None, stream=None):
+        self.total = total
+        self.done = initial
+        self.initial = initial
+        self.description = description
+        self.stream = stream if stream is not None else sys.stderr
+        self.callback = mode if callable(mode) else None
+        self.start = time.perf_counter()
+        self.last_line = self.start
+        self.bar = None
+        if mode is True or (mode is None and self.stream.isatty()):
+            size = shutil.get_terminal_size()  # 80 x 24 when the terminal reports 0 x 0
+            self.bar = tqdm(total=total, initial=initial, desc=description, unit="pt", delay=DELAY,
+                            file=self.stream, ncols=size.columns, nrows=size.lines, smoothing=0.1)
+        self.lines = mode is None and self.bar is None
+
+    def __enter__(self) -> "Progress":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        elif self.lines and time.perf_counter() - self.start > DELAY and self.done > self.initial:
+            self._line()
+
+    def update(self, n: int) -> None:
+        self.done += n
+        if self.bar is not None:
+            self.bar.update(n)
+        if self.callback is not None:
+            self.callback(self.done, self.total)
+        now = time.perf_counter()
+        if self.lines and now - self.start > DELAY and now - self.last_line > LINE_INTERVAL:
+            self.last_line = now
+            self._line()
+
+    def _line(self) -> None:
+        elapsed = time.perf_counter() - self.start
+        rate = (self.done - self.initial) / max(elapsed, 1e-9)
+        left = (self.total - self.done) / rate if rate > 0 else float("inf")
+        eta = _seconds(left) if left != float("inf") else "?"
+        print(f"{self.description}: {self.done}/{self.total} points ({100 * self.done / max(self.total, 1):.0f} %), "
+              f"{rate:.0f} points/s, elapsed {_seconds(elapsed)}, ETA {eta}", file=self.stream, flush=True)

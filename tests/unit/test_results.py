@@ -1,0 +1,86 @@
+"""Result files: netCDF round trip, readable without periodyn, and results.ensure."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import h5py
+import numpy as np
+import pytest
+import xarray as xr
+
+from periodyn.errors import InputError
+from periodyn.examples import pendulum
+from periodyn.results import ensure, load, save
+from periodyn.sweep import sweep
+
+SWEEP_FILE = """
+description = "tiny pendulum sweep for tests"
+[model]
+example = "pendulum"
+[model.parameters]
+zeta = 0.02
+[sweep]
+omega = { start = 0.2, stop = 1.2, num = 12, unit = "omega0" }
+harmonics = 5
+samples = 24
+"""
+
+
+@pytest.fixture(scope="module")
+def result():
+    return sweep(pendulum(samples=24), np.linspace(0.5, 4.0, 9), 5, progress=False)
+
+
+def test_round_trip_is_exact(result, tmp_path):
+    path = save(result, tmp_path / "r.nc")
+    back = load(path)
+    xr.testing.assert_identical(back, result)
+    assert back["harmonics"].dtype == complex and back["stable"].dtype == bool
+    assert json.loads(back.attrs["sweep_options"])["harmonics"] == 5
+
+
+def test_file_opens_without_periodyn(result, tmp_path):
+    path = save(result, tmp_path / "r.nc")
+    with h5py.File(path, "r") as f:  # a plain HDF5/netCDF-4 reader: real arrays, named dimensions
+        assert f["harmonics"].shape == (9, 11, 1, 2)
+        assert f["harmonics"].dtype == np.float64
+        np.testing.assert_array_equal(f["harmonics"][..., 1], result["harmonics"].values.imag)
+        np.testing.assert_array_equal(f["omega"][...], result["omega"].values)
+        assert f["omega"].attrs["units"] in (b"rad/s", "rad/s")
+    raw = xr.open_dataset(path, engine="h5netcdf")
+    assert raw["exponents"].dims == ("omega", "exponent", "part")
+    raw.close()
+
+
+def test_load_names_missing_and_broken_files(tmp_path):
+    with pytest.raises(InputError, match="no result file"):
+        load(tmp_path / "missing.nc")
+    (tmp_path / "broken.nc").write_text("not netcdf")
+    with pytest.raises(InputError, match="not a readable"):
+        load(tmp_path / "broken.nc")
+
+
+def test_save_leaves_no_partial_file(result, tmp_path):
+    save(result, tmp_path / "a" / "r.nc")
+    assert [p.name for p in (tmp_path / "a").iterdir()] == ["r.nc"]
+
+
+def test_ensure_computes_once_then_reads(tmp_path, monkeypatch):
+    (tmp_path / "sweeps").mkdir()
+    (tmp_path / "sweeps" / "tiny.toml").write_text(SWEEP_FILE)
+    monkeypatch.chdir(tmp_path)
+    first = ensure("tiny")
+    assert (tmp_path / "results" / "tiny.nc").is_file()
+    assert first.attrs["sweep_file_text"] == SWEEP_FILE
+    np.testing.assert_allclose(first["omega_over_omega0"].values, np.linspace(0.2, 1.2, 12), rtol=1e-12)
+
+    sweep_module = sys.modules["periodyn.sweep"]  # the module, even where periodyn re-exports sweep()
+    monkeypatch.setattr(sweep_module, "sweep_file", lambda *a, **k: pytest.fail("recomputed an up-to-date result"))
+    xr.testing.assert_identical(ensure("tiny"), first)
+    monkeypatch.undo()
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sweeps" / "tiny.toml").write_text(SWEEP_FILE.replace("num = 12", "num = 7"))
+    assert ensure("tiny").sizes["omega"] == 7  # the sweep file changed: computed again

@@ -1,0 +1,194 @@
+"""periodyn.sweep: results per point, failed points, parameter grids, backends, checkpoints."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from periodyn.analysis import SpeedSolver, solve_point
+from periodyn.errors import ConvergenceError, InputError
+from periodyn.examples import pendulum
+from periodyn.results import STATUS_FAILED, STATUS_SOLVED, load
+from periodyn.sweep import sweep
+
+W0 = np.sqrt(9.81)
+OMEGA = W0 * np.linspace(0.1, 1.4, 24)
+M = 6
+
+
+@pytest.fixture(scope="module")
+def model():
+    return pendulum(samples=32)
+
+
+@pytest.fixture(scope="module")
+def serial(model):
+    return sweep(model, OMEGA, M, progress=False)
+
+
+def data_only(ds: xr.Dataset) -> xr.Dataset:
+    return ds.drop_attrs()
+
+
+def test_every_point_matches_the_speed_solver_and_solve_point(model, serial):
+    solver = SpeedSolver(model, M)
+    for k in (0, 11, 23):
+        point = solver.solve(OMEGA[k])
+        sel = serial.isel(omega=k)
+        np.testing.assert_array_equal(sel["harmonics"].values, point.output_harmonics)
+        np.testing.assert_array_equal(sel["amplitude"].values, point.amplitude)
+        np.testing.assert_array_equal(sel["exponents"].values, point.exponents)
+        assert float(sel["max_real_exponent"]) == point.max_real
+        assert bool(sel["stable"]) == point.stable
+        direct = solve_point(model.at(OMEGA[k]), M)  # the per-speed path, to round-off
+        np.testing.assert_allclose(sel["harmonics"].values, direct.output_harmonics,
+                                   atol=1e-13 * np.abs(direct.output_harmonics).max())
+        np.testing.assert_allclose(float(sel["max_real_exponent"]), direct.max_real, rtol=1e-12)
+
+
+def test_dataset_layout_and_units(serial):
+    assert serial["amplitude"].dims == ("omega", "output")
+    assert serial["harmonics"].dims == ("omega", "harmonic", "output")
+    assert serial["exponents"].dims == ("omega", "exponent")
+    assert list(serial["harmonic"].values) == list(range(-M, M + 1))
+    assert list(serial["output"].values) == ["phi"]
+    assert serial["omega"].attrs["units"] == "rad/s"
+    assert serial["max_real_exponent"].attrs["units"] == "1/s"
+    np.testing.assert_allclose(serial["omega_over_omega0"].values, OMEGA / W0, rtol=1e-12)
+    assert (serial["status"].values == STATUS_SOLVED).all()
+    assert serial.attrs["harmonics"] == M and serial.attrs["samples"] == 32
+    assert "numpy" in serial.attrs["package_versions"]
+    # the paper's resonance near omega0/2 and the instability near omega0 are in the data
+    unstable = serial["omega_over_omega0"].values[~serial["stable"].values]
+    assert unstable.min() > 0.85 and unstable.size > 0
+
+
+def test_convergence_failures_are_recorded_not_returned(model):
+    def flaky(omega):
+        if 2.0 < omega < 2.5:
+            raise ConvergenceError(f"Newton did not converge at {omega:.3f}", residual=1.0, iterations=50)
+        return model.at(omega)
+
+    ds = sweep(flaky, OMEGA, M, progress=False)
+    bad = (OMEGA > 2.0) & (OMEGA < 2.5)
+    assert bad.any()
+    assert (ds["status"].values[bad] == STATUS_FAILED).all()
+    assert np.isnan(ds["amplitude"].values[bad]).all() and np.isnan(ds["max_real_exponent"].values[bad]).all()
+    assert not ds["stable"].values[bad].any()
+    assert all("Newton did not converge" in m for m in ds["message"].values[bad])
+    assert ds.attrs["failed_points"] == bad.sum()
+    assert (ds["message"].values[~bad] == "").all()
+
+
+def test_samples_resample_an_omega_split_model(model):
+    ds = sweep(model, OMEGA[:3], M, samples=40, stability=False, progress=False)
+    point = SpeedSolver(pendulum(samples=40), M, stability=False).solve(OMEGA[1])
+    np.testing.assert_array_equal(ds["harmonics"].values[1], point.output_harmonics)
+    assert np.isnan(ds["exponents"].values).all()
+    assert ds.attrs["samples"] == 40 and ds.attrs["stability"] == 0
+
+
+def test_parameter_grid_over_builder_keywords():
+    zetas = [0.005, 0.02]
+    ds = sweep(pendulum, OMEGA[:5], M, samples=32, parameters={"zeta": zetas}, progress=False)
+    assert ds["amplitude"].dims == ("zeta", "omega", "output")
+    np.testing.assert_array_equal(ds["zeta"].values, zetas)
+    for i, z in enumerate(zetas):
+        point = solve_point(pendulum(zeta=z, samples=32).at(OMEGA[3]), M)
+        np.testing.assert_array_equal(ds["amplitude"].values[i, 3], point.amplitude)
+    # the damping moment -2 zeta w0 w drives the mean: four times zeta, larger mean deflection
+    assert (np.abs(ds["mean"].values[1]) > 3 * np.abs(ds["mean"].values[0])).all()
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"omega": [0.0, 1.0]}, "positive finite speed"),
+        ({"omega": [[1.0, 2.0]]}, "1-D"),
+        ({"harmonics": -1}, "harmonics must be an integer >= 0"),
+        ({"samples": 0}, "samples must be an integer >= 1"),
+        ({"method": "fast"}, "unknown method 'fast'"),
+        ({"workers": -2}, "workers must be an integer >= 0"),
+        ({"parameters": {"zeta": [0.1]}}, "parameter grid needs a model builder"),
+        ({"resume": True}, "resume=True needs out="),
+    ],
+)
+def test_bad_arguments_name_the_problem(model, kwargs, message):
+    args = {"model": model, "omega": OMEGA[:2], "harmonics": M, **kwargs}
+    with pytest.raises(InputError, match=message):
+        sweep(progress=False, **args)
+
+
+def test_builder_and_model_errors_become_input_errors():
+    with pytest.raises(InputError, match="zeta"):
+        sweep(pendulum, OMEGA[:2], M, parameters={"zeta": [-1.0]}, progress=False)
+    with pytest.raises(InputError, match="does not accept"):
+        sweep(pendulum, OMEGA[:2], M, parameters={"dampin": [0.1]}, progress=False)
+    with pytest.raises(InputError, match="must return a periodyn.RheoLinear"):
+        sweep(lambda w: np.eye(2), OMEGA[:2], M, progress=False)
+
+
+def test_parallel_processes_identical_to_serial():
+    """A grid: the first point's model travels built (lambdas included, by cloudpickle),
+    the second is built by the builder inside the workers."""
+    grid = {"zeta": [0.01, 0.03]}
+    serial = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, progress=False)
+    parallel = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, workers=2, chunk_size=5, progress=False)
+    xr.testing.assert_identical(data_only(parallel), data_only(serial))
+    assert parallel.attrs["backend"] == "processes" and parallel.attrs["workers"] == 2
+
+
+def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
+    out = tmp_path / "sweep.nc"
+
+    def stop_after_two_chunks(done, total):
+        if done >= 10:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=stop_after_two_chunks)
+    parts = out.with_name("sweep.nc.parts")
+    assert len(list(parts.glob("chunk-*.npz"))) == 2 and not out.exists()
+
+    with pytest.raises(InputError, match="--resume"):
+        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=False)
+    with pytest.raises(InputError, match="other settings"):
+        sweep(model, OMEGA, M + 1, out=out, chunk_size=5, resume=True, progress=False)
+
+    (parts / ".tmp-123-chunk-0000000010-5.npz").write_bytes(b"half a chunk")  # a killed write
+    calls = []
+    resumed = sweep(model, OMEGA, M, out=out, chunk_size=5, resume=True, progress=lambda d, t: calls.append(d))
+    assert calls[0] == 15  # started from the 10 checkpointed points
+    assert not parts.exists()
+    xr.testing.assert_identical(data_only(resumed), data_only(serial))
+    xr.testing.assert_identical(data_only(load(out)), data_only(serial))
+    # resuming a finished sweep only reads it back
+    again = sweep(model, OMEGA, M, out=out, resume=True, progress=lambda d, t: pytest.fail("recomputed"))
+    xr.testing.assert_identical(again, load(out))
+
+
+def test_failure_before_the_first_chunk_leaves_nothing_to_resume(model, serial, tmp_path):
+    out = tmp_path / "s.nc"
+    with pytest.raises(InputError):
+        sweep(model, OMEGA, M, out=out, scheduler="tcp://127.0.0.1:1:bad", progress=False)
+    assert not out.with_name("s.nc.parts").exists()
+    out.with_name("s.nc.parts").mkdir()  # killed between creating the folder and its manifest
+    ds = sweep(model, OMEGA, M, out=out, progress=False)
+    xr.testing.assert_identical(data_only(ds), data_only(serial))
+
+
+def test_unreadable_chunk_is_recomputed(model, serial, tmp_path):
+    out = tmp_path / "s.nc"
+
+    def stop(done, total):
+        if done >= 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=stop)
+    (chunk,) = out.with_name("s.nc.parts").glob("chunk-*.npz")
+    chunk.write_bytes(chunk.read_bytes()[:100])
+    resumed = sweep(model, OMEGA, M, out=out, chunk_size=5, resume=True, progress=False)
+    xr.testing.assert_identical(data_only(resumed), data_only(serial))
+

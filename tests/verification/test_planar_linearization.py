@@ -1,0 +1,100 @@
+"""Linearized equations (eq. 5, 7, 9, 10, 11-12) against finite differences of the
+non-linear reduced equations (4), and the omega-split against direct linearization."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from periodyn.examples.slider_crank import slider_crank, slider_crank_model
+from periodyn.linearize import linearize, omega_split, reduced_residual
+from periodyn.model import IndependentElement
+
+
+@pytest.fixture(scope="module")
+def model():
+    """Slider-crank with damping and the sections' rotary inertia, so every term counts."""
+    return slider_crank_model(kelvin_voigt=4.8e-5, rotary_inertia_per_length=2e-5)
+
+
+@pytest.mark.parametrize("sample", [3, 10])
+def test_linearized_matrices_are_derivatives_of_the_nonlinear_equations(model, sample):
+    omega, p = 220.0, 16
+    lin = linearize(model, omega, p)
+    theta = 2 * np.pi * sample / p
+    zero = np.zeros(4)
+    R = lambda q, qd, qdd: reduced_residual(model, theta, q, qd, qdd, omega)
+    np.testing.assert_allclose(R(zero, zero, zero), lin.additional_force[sample], rtol=1e-10,
+                               atol=1e-12 * np.abs(lin.additional_force).max())
+    h = 1e-6
+    M, C, K = (np.empty((4, 4)) for _ in range(3))
+    for i in range(4):
+        e = np.zeros(4)
+        e[i] = h
+        K[:, i] = (R(e, zero, zero) - R(-e, zero, zero)) / (2 * h)
+        C[:, i] = (R(zero, e * 1e3, zero) - R(zero, -e * 1e3, zero)) / (2e3 * h)
+        M[:, i] = (R(zero, zero, e * 1e3) - R(zero, zero, -e * 1e3)) / (2e3 * h)
+    np.testing.assert_allclose(M, lin.mass[sample], rtol=1e-7, atol=1e-9 * np.abs(lin.mass).max())
+    np.testing.assert_allclose(C, lin.damping[sample], rtol=1e-6, atol=1e-7 * np.abs(lin.damping).max())
+    np.testing.assert_allclose(K, lin.stiffness[sample], rtol=1e-6, atol=1e-6 * np.abs(lin.stiffness).max())
+
+
+def test_mass_matrix_is_symmetric_positive_definite(model):
+    lin = linearize(model, 150.0, 16)
+    np.testing.assert_allclose(lin.mass, np.swapaxes(lin.mass, 1, 2), atol=1e-16)
+    assert np.all(np.linalg.eigvalsh(lin.mass) > 0)
+
+
+def _with_independent(model, element):
+    idx = np.array([model.coordinate_names.index(c) for c in element.coordinates])
+    return dataclasses.replace(model, independent=((element, idx),))
+
+
+BEARING = IndependentElement("bearing", ("R1.x", "R1.y"),
+                             stiffness=(np.diag([1e3, 2e3]), np.array([[0, 5.0], [-5.0, 0]])),
+                             damping=(np.diag([0.5, 0.7]), np.array([[0, 1e-3], [-1e-3, 0]])),
+                             mass=np.diag([0.01, 0.01]), force=np.array([0.0, -0.2]))
+
+
+def test_omega_split_equals_direct_linearization_at_several_speeds():
+    base = slider_crank_model(kelvin_voigt=4.8e-5)
+    model = _with_independent(base, BEARING)
+    split = omega_split(model, 24)
+    for omega in (0.7, 150.0, 233.3, 300.0):
+        direct = linearize(model, omega, 24)
+        system = split.at(omega)
+        for got, want in ((system.mass, direct.mass), (system.damping, direct.damping),
+                          (system.stiffness, direct.stiffness), (system.force, direct.force)):
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max() * max(1, omega / 100) ** 2)
+    # the independent element changed the equations
+    plain = linearize(base, 150.0, 24)
+    assert np.abs(plain.stiffness - linearize(model, 150.0, 24).stiffness).max() > 1.0
+
+
+def test_independent_element_adds_its_matrices_through_the_transfer_function():
+    """For the pendulum angle (Fd = 1, Fdv = Fda = 0) a rotational spring-damper-inertia
+    adds exactly (k, c, J), and its force adds to the right-hand side."""
+    from periodyn.examples.elliptic_pendulum import elliptic_pendulum_model
+    base = elliptic_pendulum_model()
+    el = IndependentElement("spring", ("pendulum",), stiffness=(np.array([[3.0]]),), damping=(np.array([[0.2]]),),
+                            mass=np.array([[0.5]]), force=np.array([0.7]))
+    model = _with_independent(base, el)
+    a, b = linearize(base, 2.0, 8), linearize(model, 2.0, 8)
+    np.testing.assert_allclose(b.mass - a.mass, 0.5, atol=1e-14)
+    np.testing.assert_allclose(b.damping - a.damping, 0.2, atol=1e-14)
+    np.testing.assert_allclose(b.stiffness - a.stiffness, 3.0, atol=1e-13)
+    np.testing.assert_allclose(b.force - a.force, 0.7, atol=1e-14)
+
+
+def test_split_output_maps_give_the_linearized_midpoint_deflection():
+    """G q^d equals the change of the (non-linear) midpoint deflection for small q^d."""
+    from periodyn.kinematics import configuration
+    from periodyn.kernels.outputs import midpoint_deflection
+    model = slider_crank_model()
+    split = slider_crank(0.02, 16)
+    qd = 1e-6 * np.array([1.0, -2.0, 0.5, 3.0])
+    idx = model.output_dofs[0]
+    for j in (0, 5):
+        theta = 2 * np.pi * j / 16
+        y = midpoint_deflection(configuration(model, theta, qd)[idx], 0.3, np.empty(6))
+        assert y == pytest.approx(split.output_maps[j, 0] @ qd, rel=1e-5)
