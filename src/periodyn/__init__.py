@@ -6,9 +6,12 @@ averaging transient -> sweep results. See README.md.
 
 from . import examples
 from .analysis import PointResult, solve_point
+from .continuation import Branch, SpecialPoint, continuation, switch_period_doubling
+from .dae import DAE, ihb
 from .errors import ConvergenceError, InputError
 from .hb import AliasingWarning, PeriodicSolution, periodic_solution
 from .hill import FloquetExponents, characteristic_exponents, hill_exponents
+from .nonlinear import shooting
 from .results import load
 from .sweep import sweep
 from .system import OmegaSplitModel, RheoLinear
@@ -17,7 +20,8 @@ from .transient import Transient, transient
 __version__ = "0.1.0"
 
 __all__ = [
-    "AliasingWarning", "ConvergenceError", "FloquetExponents", "InputError", "OmegaSplitModel",
-    "PeriodicSolution", "PointResult", "RheoLinear", "Transient", "characteristic_exponents", "examples",
-    "hill_exponents", "load", "periodic_solution", "solve_point", "sweep", "transient",
+    "AliasingWarning", "Branch", "ConvergenceError", "DAE", "FloquetExponents", "InputError", "OmegaSplitModel",
+    "PeriodicSolution", "PointResult", "RheoLinear", "SpecialPoint", "Transient", "characteristic_exponents",
+    "continuation", "examples", "hill_exponents", "ihb", "load", "periodic_solution", "shooting", "solve_point",
+    "switch_period_doubling", "sweep", "transient",
 ]

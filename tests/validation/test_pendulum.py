@@ -68,3 +68,34 @@ def test_resonance_near_half_and_third_of_w0(model):
     assert near(0.5) < 0.02 and near(1 / 3) < 0.02
     main = max(peaks, key=lambda i: amp[i])
     assert abs(r[main] - 0.5) < 0.02
+
+
+def test_linearized_equation_29_is_the_jacobian_of_equation_28(model):
+    """Eq. (29) from eq. (28) at phi = 0: f = force(0, 0, t), K = -df/dq, C = -df/dq'."""
+    dae = periodyn.examples.pendulum_nonlinear()
+    w0 = model.metadata["omega0"]
+    w = 0.7 * w0
+    sys = model.at(w)
+    for t in sys.times[::5]:
+        q0, v0 = np.zeros((1, 1)), np.zeros((1, 1))
+        f = dae.force(q0, v0, np.array([t]), w, dae.parameters)[0]
+        dfdq, dfdv = (a[0] for a in dae.force_jacobians(q0, v0, np.array([t]), w, dae.parameters))
+        j = int(round(t * w / (2 * np.pi) * sys.samples)) % sys.samples
+        np.testing.assert_allclose(f, sys.force[j], atol=1e-12)
+        np.testing.assert_allclose(-dfdq, sys.stiffness[j], atol=1e-12)
+        np.testing.assert_allclose(-dfdv, sys.damping[j], atol=1e-12)
+
+
+def test_full_nonlinear_orbit_by_shooting_approaches_the_linearized_one(model):
+    """Away from resonance the non-linear (eq. 28) and linearized (eq. 29) periodic
+    solutions differ by a relative O(amplitude^2): Fig. 2 solid vs dashed."""
+    from periodyn.nonlinear.shooting import shooting
+
+    dae = periodyn.examples.pendulum_nonlinear()
+    w0 = model.metadata["omega0"]
+    for r in (0.2, 0.3):
+        lin = periodyn.periodic_solution(model.at(r * w0), 12)
+        nl = shooting(dae, r * w0)
+        assert nl.residual < 1e-9
+        rel = abs(nl.amplitude()[0] - lin.amplitude()[0]) / lin.amplitude()[0]
+        assert rel < 2 * lin.amplitude()[0] ** 2

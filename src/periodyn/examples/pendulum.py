@@ -16,7 +16,7 @@ import numpy as np
 from ..errors import InputError
 from ..system import OmegaSplitModel
 
-__all__ = ["pendulum"]
+__all__ = ["pendulum", "pendulum_nonlinear"]
 
 
 def pendulum(*, length: float = 1.0, radius: float = 0.5, eccentricity: float = 0.5, zeta: float = 0.01,
@@ -43,3 +43,28 @@ def pendulum(*, length: float = 1.0, radius: float = 0.5, eccentricity: float = 
         metadata={"omega0": float(w0), "length": length, "radius": radius, "eccentricity": eccentricity,
                   "zeta": zeta, "g": g},
     )
+
+
+def pendulum_nonlinear(*, length: float = 1.0, radius: float = 0.5, eccentricity: float = 0.5, zeta: float = 0.01,
+                       g: float = 9.81):
+    """Full non-linear elliptic pendulum, eq. (28), as a one-coordinate ODE ``periodyn.DAE``:
+
+        phi'' + 2 zeta w0 (phi' + w) + w0^2 sin(phi) + rho w^2 [sin(phi - w t) + e sin(phi + w t)] = 0,
+
+    for shooting / continuation against the linearized eq. (29) (``pendulum``)."""
+    from ..dae.model import DAE
+
+    w0 = np.sqrt(g / length)
+    rho = radius / length
+
+    def force(q, qd, t, omega):
+        phi = q[0]
+        return np.array([-(2 * zeta * w0 * (qd[0] + omega) + w0**2 * np.sin(phi)
+                           + rho * omega**2 * (np.sin(phi - omega * t) + eccentricity * np.sin(phi + omega * t)))])
+
+    def force_jacobian(q, qd, t, omega):
+        phi = q[0]
+        dq = -(w0**2 * np.cos(phi) + rho * omega**2 * (np.cos(phi - omega * t) + eccentricity * np.cos(phi + omega * t)))
+        return np.array([[dq]]), np.array([[-2 * zeta * w0]])
+
+    return DAE(np.eye(1), force, force_jacobian=force_jacobian, coordinate_names=("phi",), name="pendulum_nonlinear")

@@ -1,0 +1,69 @@
+"""Inverted pendulum on a moving base (Ju, Fan & Zhu 2021, eqs. 63-64): period-1 branch with
+its period-doubling points, the period-doubled (2T) branch, an amplitude-base-amplitude
+curve, and the 2T orbit (q, lambda) vs integration.
+
+    python figures/fig_dae_inverted_pendulum.py [OUT_DIR]
+"""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from periodyn.continuation import continuation, switch_period_doubling  # noqa: E402
+from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
+from periodyn.examples.dae_examples import inverted_pendulum  # noqa: E402
+from periodyn.nonlinear import integrate, shooting  # noqa: E402
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    cfg = load_sweep("inverted_pendulum")
+    s = inverted_pendulum(**cfg["model"]["parameters"])
+    c = cfg["continuation"]
+    H = c["harmonics"]
+    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1)
+    pd = min(br.points("period-doubling"), key=lambda p: p.omega)
+    b2 = switch_period_doubling(br, pd, c["omega"]["stop"], max_points=150, ds_max=0.05)
+    pc = c["parameter"]
+    brp = continuation(s, pc["omega"], harmonics=H, parameter=(pc["name"], pc["start"], pc["stop"]), ds_max=0.1)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    plot_branch(axes[0], br, 2, "period 1")
+    plot_branch(axes[0], b2, 2, "period 2", color="tab:orange")
+    axes[0].set_xlim(c["omega"]["start"], c["omega"]["stop"])
+    axes[0].set_xlabel("omega (rad/s)")
+    axes[0].set_ylabel("phi amplitude (rad)")
+    axes[0].set_title(f"base amplitude p = {s.parameters['p']} m, H = {H} (2H on the 2T branch)", fontsize=9)
+    plot_branch(axes[1], brp, 2, "period 1")
+    axes[1].set_xlabel("p (m)")
+    axes[1].set_title(f"base amplitude at omega = {pc['omega']} rad/s", fontsize=9)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    p1 = out_dir / "fig_dae_inverted_pendulum_response.png"
+    fig.savefig(p1, dpi=120)
+    plt.close(fig)
+
+    w = c["time_history_omega"]
+    j = int(np.argmin(np.abs(b2.omega - w)))
+    sol = b2.solutions[j]
+    direct = shooting(s, sol.omega, initial=sol, subharmonic=2)
+    T = sol.period
+    th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 50))
+    fig = time_history_figure(sol, th, [2], [0, 1], ["phi"], ["lambda_x", "lambda_y"],
+                              f"period-doubled orbit at omega = {sol.omega:.3f} rad/s: IHB vs integration (shooting start)")
+    p2 = out_dir / "fig_dae_inverted_pendulum_time.png"
+    fig.savefig(p2, dpi=120)
+    plt.close(fig)
+    return [p1, p2]
+
+
+if __name__ == "__main__":
+    print(main(pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "figures/png")))

@@ -1,0 +1,63 @@
+"""Slider-chain pendulum with 40 rods (Ju, Fan & Zhu 2021, eqs. 70-82; n = 122, m = 81):
+amplitude-frequency curves of the slider and the chain tip, and q, lambda over one period
+vs integration of the DAE started on the IHB orbit.
+
+    python figures/fig_dae_slider_chain_pendulum.py [OUT_DIR]
+"""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from periodyn.continuation import continuation  # noqa: E402
+from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
+from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
+from periodyn.nonlinear import integrate  # noqa: E402
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    cfg = load_sweep("slider_chain_pendulum")
+    s = slider_chain_pendulum(**cfg["model"]["parameters"])
+    c = cfg["continuation"]
+    H = c["harmonics"]
+    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, stability="monodromy")
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    plot_branch(axes[0], br, 0)
+    axes[0].set_ylabel("slider x1 amplitude (m)")
+    plot_branch(axes[1], br, s.n - 3)
+    axes[1].set_ylabel("last rod x41 amplitude (m)")
+    for ax in axes:
+        ax.set_xlabel("omega (rad/s)")
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"slider-chain pendulum, {s.n} coordinates, {s.m} multipliers, p = {s.parameters['p']} N, "
+                 f"H = {H}, max residual {br.residual.max():.1e}", fontsize=9)
+    fig.tight_layout()
+    p1 = out_dir / "fig_dae_slider_chain_pendulum_response.png"
+    fig.savefig(p1, dpi=120)
+    plt.close(fig)
+
+    w = c["time_history_omega"]
+    sol = br.solutions[int(np.argmin(np.abs(br.omega - w)))]
+    T = sol.period
+    th = integrate(s, sol.omega, (0, T), sol(0.0)[0], sol.velocity(0.0)[0], t_eval=np.linspace(0, T, 40),
+                   rtol=1e-9, atol=1e-11)
+    fig = time_history_figure(sol, th, [0, s.n - 3], [0, 1, s.m - 1], ["x1", "x41"],
+                              ["lambda slider", "lambda joint 1 x", "lambda last joint y"],
+                              f"slider-chain pendulum, omega = {sol.omega:.3f} rad/s: IHB vs integration over one period")
+    p2 = out_dir / "fig_dae_slider_chain_pendulum_time.png"
+    fig.savefig(p2, dpi=120)
+    plt.close(fig)
+    return [p1, p2]
+
+
+if __name__ == "__main__":
+    print(main(pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "figures/png")))

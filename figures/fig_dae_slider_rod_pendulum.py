@@ -1,0 +1,61 @@
+"""Slider-rod pendulum (Ju, Fan & Zhu 2021, eqs. 65-69): amplitude-frequency curves of the
+slider and the rod, and q, lambda over one period vs integration.
+
+    python figures/fig_dae_slider_rod_pendulum.py [OUT_DIR]
+"""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from periodyn.continuation import continuation  # noqa: E402
+from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
+from periodyn.examples.dae_examples import slider_rod_pendulum  # noqa: E402
+from periodyn.nonlinear import integrate, shooting  # noqa: E402
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    cfg = load_sweep("slider_rod_pendulum")
+    s = slider_rod_pendulum(**cfg["model"]["parameters"])
+    c = cfg["continuation"]
+    H = c["harmonics"]
+    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, max_points=800)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    plot_branch(axes[0], br, 0)
+    axes[0].set_ylabel("slider x1 amplitude (m)")
+    plot_branch(axes[1], br, 4)
+    axes[1].set_ylabel("rod phi2 amplitude (rad)")
+    for ax in axes:
+        ax.set_xlabel("omega (rad/s)")
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"slider-rod pendulum, f = {s.parameters['f']} N, H = {H}", fontsize=9)
+    fig.tight_layout()
+    p1 = out_dir / "fig_dae_slider_rod_pendulum_response.png"
+    fig.savefig(p1, dpi=120)
+    plt.close(fig)
+
+    w = c["time_history_omega"]
+    j = int(np.argmin(np.abs(br.omega - w)))
+    sol = br.solutions[j]
+    direct = shooting(s, sol.omega, initial=sol)
+    T = sol.period
+    th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 40))
+    fig = time_history_figure(sol, th, [0, 4], [0, 1, 2], ["x1", "phi2"], ["lambda_slider", "lambda_jx", "lambda_jy"],
+                              f"slider-rod pendulum, omega = {sol.omega:.3f} rad/s: IHB vs integration")
+    p2 = out_dir / "fig_dae_slider_rod_pendulum_time.png"
+    fig.savefig(p2, dpi=120)
+    plt.close(fig)
+    return [p1, p2]
+
+
+if __name__ == "__main__":
+    print(main(pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "figures/png")))

@@ -1,0 +1,259 @@
+"""EGA-IHB: harmonic balance of ``M q'' + Phi_q^T lambda = f``, ``Phi = 0`` (Ju, Fan & Zhu 2021).
+
+Unknowns X: real Fourier coefficients (``periodyn.dae.fourier`` layout) of the n
+coordinates and the m multipliers, coordinate-major: ``X[i*(2H+1) + r]``; size
+``(n + m)(2H+1)``. Residual: Galerkin coefficients of
+``r1 = M(q) q'' + Phi_q^T lambda - f(q, q', t)`` (n rows, N or N m) and ``r2 = Phi(q, t)``
+(m rows, m or rad), evaluated by alternating frequency-time (App. A): coefficients ->
+samples (pyFFTW) -> per-sample evaluation -> FFT.
+
+Newton Jacobian (no finite differences): per-sample derivative matrices
+``K = -df/dq + sum lam_k Phi_k,qq (+ d(M a)/dq)``, ``C = -df/dq'``, ``M``, ``Phi_q`` are
+turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``); only the
+(i, j) pairs where a sampled matrix is non-zero are kept, so the Jacobian is a sparse
+matrix of dense harmonic blocks, factorised by SuperLU.
+
+Sampling rule (anti-aliasing): the Jacobian blocks need the spectra of the sampled
+matrices up to harmonic 2H, and a cubic term q^3 has 3H harmonics that must not fold
+onto harmonics <= H. Both hold for ``p >= min_samples(H, 2H) = 6H + 1`` (product of a
+series with H harmonics and coefficients with 2H harmonics); the default p is that
+bound rounded up to an FFT-friendly size. Other non-linearities (sin, cos of angles) are
+not band-limited: raise ``samples`` and check convergence in H.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import ConvergenceError, InputError
+from ..spectra import min_samples, sample_angles
+from .fourier import complex_to_real, derivative_matrix, product_blocks, real_coefficients, real_samples, real_to_complex
+from .model import DAE
+from .solution import PeriodicSolution
+
+__all__ = ["IHBProblem", "ihb", "default_samples"]
+
+
+def default_samples(H: int) -> int:
+    """Smallest 2^a 3^b >= min_samples(H, 2H) = 6H + 1 (see module docstring)."""
+    need = min_samples(H, 2 * H)
+    best = None
+    for a in range(0, 20):
+        for b in range(0, 13):
+            v = 2 ** a * 3 ** b
+            if v >= need and (best is None or v < best):
+                best = v
+    return best
+
+
+class IHBProblem:
+    """Residual R(X) and sparse Jacobian of the harmonic-balance equations of one DAE.
+
+    harmonics H, samples p, subharmonic nu (orbit period nu 2 pi / omega).
+    """
+
+    def __init__(self, system: DAE, harmonics: int, samples: int | None = None, subharmonic: int = 1):
+        if not isinstance(system, DAE):
+            raise InputError(f"expected a periodyn.DAE, got {type(system).__name__}")
+        if not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
+            raise InputError(f"harmonics must be a positive integer, got {harmonics!r}")
+        self.system = system
+        self.H = int(harmonics)
+        self.p = int(samples) if samples is not None else default_samples(self.H)
+        if self.p < 4 * self.H + 1:
+            raise InputError(f"{self.p} samples are too few for {self.H} harmonics: the Jacobian needs the spectra "
+                             f"up to harmonic {2 * self.H}; use samples >= {4 * self.H + 1} (default {default_samples(self.H)})")
+        self.nu = int(subharmonic)
+        self.n, self.m = system.n, system.m
+        self.L = 2 * self.H + 1
+        self.size = (self.n + self.m) * self.L
+        self.D = derivative_matrix(self.H)
+        self.theta = sample_angles(self.p)
+
+    # ------------------------------------------------------------------ layout
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """X -> (q coefficients (2H+1, n), lambda coefficients (2H+1, m)) real layout."""
+        nq = self.n * self.L
+        return X[:nq].reshape(self.n, self.L).T, X[nq:].reshape(self.m, self.L).T
+
+    def join(self, Aq: np.ndarray, Al: np.ndarray) -> np.ndarray:
+        return np.concatenate([Aq.T.ravel(), Al.T.ravel()])
+
+    def initial(self, q0: np.ndarray | None = None, omega: float = 1.0, params=None) -> np.ndarray:
+        """Constant guess q = q0 (default ``system.q0``) and the static multipliers
+        ``Phi_q^T lambda = mean_t f(q0, 0, t)`` (least squares), so that gravity
+        stiffness ``lambda Phi_qq`` is present from the first Newton step."""
+        s = self.system
+        P = s.parameters if params is None else params
+        q = np.array(s.q0 if q0 is None else q0, float)
+        Aq = np.zeros((self.L, self.n))
+        Aq[0] = q
+        Al = np.zeros((self.L, self.m))
+        if self.m:
+            t = self.theta / omega
+            Q = np.broadcast_to(q, (self.p, self.n))
+            fbar = s.force(Q, np.zeros_like(Q), t, omega, P).mean(axis=0)
+            Pq = s.constraint_jacobian(Q[:1], t[:1], omega, P)[0]
+            Al[0] = np.linalg.lstsq(Pq.T, fbar, rcond=None)[0]
+        return self.join(Aq, Al)
+
+    def from_solution(self, sol: PeriodicSolution) -> np.ndarray:
+        """Unknowns from a PeriodicSolution (re-truncated or zero-padded to H, same nu)."""
+        if sol.subharmonic != self.nu:
+            raise InputError(f"solution has subharmonic {sol.subharmonic}, problem {self.nu}")
+        Hs = (sol.harmonics.shape[0] - 1) // 2
+        pad = max(0, self.H - Hs)
+        cq = np.pad(sol.harmonics, ((pad, pad), (0, 0)))
+        cl = np.pad(sol.lambda_harmonics, ((pad, pad), (0, 0)))
+        return self.join(complex_to_real(cq, self.H), complex_to_real(cl, self.H))
+
+    # ------------------------------------------------------------------ AFT
+    def time_samples(self, X: np.ndarray, omega: float):
+        """Samples over one orbit: t (p,), q, q', q'' (p, n), lambda (p, m)."""
+        Om = omega / self.nu
+        Aq, Al = self.split(X)
+        q = real_samples(Aq, self.p)
+        qd = Om * real_samples(self.D @ Aq, self.p)
+        qdd = Om ** 2 * real_samples(self.D @ (self.D @ Aq), self.p)
+        lam = real_samples(Al, self.p) if self.m else np.zeros((self.p, 0))
+        return self.theta / Om, q, qd, qdd, lam
+
+    def residual(self, X: np.ndarray, omega: float, params=None) -> np.ndarray:
+        """R(X), shape (size,)."""
+        return self._evaluate(X, omega, params, jacobian=False)[0]
+
+    def residual_jacobian(self, X: np.ndarray, omega: float, params=None):
+        """(R (size,), J sparse csc (size, size))."""
+        return self._evaluate(X, omega, params, jacobian=True)
+
+    def _evaluate(self, X, omega, params, jacobian):
+        sysm = self.system
+        P = sysm.parameters if params is None else params
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        M = sysm.mass(q)
+        r1 = np.einsum("pij,pj->pi", M, qdd) - sysm.force(q, qd, t, omega, P)
+        if self.m:
+            Pq = sysm.constraint_jacobian(q, t, omega, P)
+            r1 += np.einsum("pki,pk->pi", Pq, lam)
+            r2 = sysm.constraint(q, t, omega, P)
+            R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H))
+        else:
+            R = self.join(real_coefficients(r1, self.H), np.zeros((self.L, 0)))
+        if not jacobian:
+            return R, None
+        Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        Kt = -Kf
+        if self.m:
+            Kt = Kt + sysm.constraint_hessian(q, lam, t, omega, P)
+        if sysm.mass_jacobian is not None:
+            Kt = Kt + sysm.mass_jacobian(q, qdd)
+        Ct = -Cf
+        return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
+
+    def _assemble(self, Kt, Ct, M, Pq, omega):
+        L, n = self.L, self.n
+        Om = omega / self.nu
+        mask = np.any(Kt != 0, axis=0) | np.any(Ct != 0, axis=0) | np.any(M != 0, axis=0)
+        I, J = np.nonzero(mask)
+        E = len(I)
+        S = np.concatenate([Kt[:, I, J], Ct[:, I, J], M[:, I, J]], axis=1)
+        G = product_blocks(S, self.H)
+        D1 = Om * self.D
+        D2 = D1 @ D1
+        blocks = [G[:E] + G[E:2 * E] @ D1 + G[2 * E:] @ D2]
+        rows = [I * L]
+        cols = [J * L]
+        if Pq is not None:
+            Kc, Jc = np.nonzero(np.any(Pq != 0, axis=0))
+            GP = product_blocks(Pq[:, Kc, Jc], self.H)
+            blocks += [GP, GP]
+            rows += [Jc * L, (n + Kc) * L]
+            cols += [(n + Kc) * L, Jc * L]
+        data = np.concatenate([b.ravel() for b in blocks])
+        r = np.arange(L)
+        rr = np.concatenate([(ro[:, None, None] + r[None, :, None] + 0 * r[None, None, :]).ravel() for ro in rows])
+        cc = np.concatenate([(co[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel() for co in cols])
+        return sp.csc_matrix((data, (rr, cc)), shape=(self.size, self.size))
+
+    def parameter_derivative(self, X, omega, params, name: str | None) -> np.ndarray:
+        """dR/d(parameter) by a central difference in that one scalar (omega when name is
+        None); used for the continuation tangent only, never for the Newton Jacobian."""
+        P = dict(self.system.parameters if params is None else params)
+        v = omega if name is None else P[name]
+        h = 1e-6 * max(abs(v), 1e-3)
+        if name is None:
+            return (self.residual(X, omega + h, P) - self.residual(X, omega - h, P)) / (2 * h)
+        Pp, Pm = dict(P, **{name: v + h}), dict(P, **{name: v - h})
+        return (self.residual(X, omega, Pp) - self.residual(X, omega, Pm)) / (2 * h)
+
+    # ------------------------------------------------------------------ results
+    def solution(self, X, omega, params, residual, iterations, multipliers, method="ihb") -> PeriodicSolution:
+        Aq, Al = self.split(X)
+        s = self.system
+        return PeriodicSolution(float(omega), self.nu, real_to_complex(Aq), real_to_complex(Al), float(residual),
+                                int(iterations), multipliers, method, dict(s.parameters if params is None else params),
+                                s.coordinate_names, s.constraint_names, self.p)
+
+    def newton(self, X, omega, params=None, tol=1e-8, max_iter=30):
+        """Plain Newton; returns (X, residual norm, iterations) or raises ConvergenceError."""
+        X = np.array(X, dtype=float)
+        rn = np.inf
+        for it in range(max_iter + 1):
+            R, J = self.residual_jacobian(X, omega, params)
+            rn = float(np.max(np.abs(R)))
+            if not np.isfinite(rn):
+                break
+            if rn <= tol:
+                return X, rn, it
+            if it == max_iter:
+                break
+            try:
+                dX = spla.splu(J).solve(-R)
+            except RuntimeError:
+                raise ConvergenceError(f"IHB Jacobian singular at omega={omega:.6g} rad/s (iteration {it}); "
+                                       "start closer to the orbit or change omega", rn, it) from None
+            # backtracking on the residual max-norm: full steps near the solution
+            step = 1.0
+            for _ in range(6):
+                Xt = X + step * dX
+                if float(np.max(np.abs(self.residual(Xt, omega, params)))) < rn or step < 0.05:
+                    break
+                step *= 0.5
+            X = Xt
+        raise ConvergenceError(f"IHB Newton did not converge at omega={omega:.6g} rad/s: residual {rn:.3g} > tol {tol:.1g} "
+                               f"after {max_iter} iterations; give a better initial guess (continuation) or more "
+                               "harmonics", rn, max_iter)
+
+
+def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
+        subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "monodromy",
+        params=None) -> PeriodicSolution:
+    """Periodic solution of ``system`` driven at ``omega`` (rad/s) by EGA-IHB.
+
+    harmonics: H; samples: p (default see module docstring); initial: a
+    PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
+    (``system.q0``); subharmonic: nu (orbit period nu 2 pi / omega); tol: residual
+    max-norm (N, N m, m, rad); stability: "monodromy", "hill" or None (see
+    ``periodyn.dae.stability``). Raises ConvergenceError when Newton fails.
+    """
+    if not np.isfinite(omega) or omega <= 0:
+        raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
+    prob = IHBProblem(system, harmonics, samples, subharmonic)
+    if initial is None:
+        X0 = prob.initial(omega=float(omega), params=params)
+    elif isinstance(initial, PeriodicSolution):
+        X0 = prob.from_solution(initial)
+    else:
+        a = np.asarray(initial, float)
+        X0 = prob.initial(a, float(omega), params) if a.shape == (system.n,) else a
+        if X0.shape != (prob.size,):
+            raise InputError(f"initial must be a PeriodicSolution, an (n,)={system.n} configuration or a vector of "
+                             f"{prob.size} unknowns, got shape {a.shape}")
+    X, rn, it = prob.newton(X0, float(omega), params, tol, max_iter)
+    mult = None
+    if stability is not None:
+        from .stability import ihb_multipliers
+        mult = ihb_multipliers(prob, X, float(omega), params, method=stability)
+    return prob.solution(X, omega, params, rn, it, mult)
