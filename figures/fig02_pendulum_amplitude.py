@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
 import periodyn.results  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
@@ -35,12 +36,8 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     ax.set_ylim(0, None)
     ax.set_title(r"Elliptic pendulum, $\zeta = 0.01$ (Fig. 2)")
     ax.legend(loc="upper left")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / "fig02_pendulum_amplitude.png"
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return [path]
+    return [save_figure(fig, out_dir / "fig02_pendulum_amplitude.png")]
 
 
 if __name__ == "__main__":

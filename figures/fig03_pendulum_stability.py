@@ -14,6 +14,7 @@ import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
 import periodyn.results  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 from periodyn.boundaries import stability_boundaries  # noqa: E402
 
 
@@ -43,12 +44,8 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
                 va="bottom", color="r")
     lines = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
     ax.legend(lines, [ln.get_label() for ln in lines], loc="lower right", fontsize=8)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    path = out_dir / "fig03_pendulum_stability.png"
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return [path]
+    return [save_figure(fig, out_dir / "fig03_pendulum_stability.png")]
 
 
 if __name__ == "__main__":
