@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -83,7 +84,9 @@ class BlockPattern:
     """Sparsity of a (2m+1)n block matrix with blocks (k, l) for |k - l| <= band.
 
     k_index, l_index: (nb,) harmonic indices of block rows/columns; csc_perm maps the
-    flattened (nb, n, n) block data to CSC data order; indices/indptr are the CSC arrays.
+    flattened (nb, n, n) block data to CSC data order; indices/indptr are the CSC arrays;
+    half_bandwidth u = (band + 1) n - 1 and band_rows/band_cols place the flattened block
+    data in LAPACK band storage ab[u + i - j, j].
     """
 
     m: int
@@ -94,10 +97,31 @@ class BlockPattern:
     csc_perm: np.ndarray
     indices: np.ndarray
     indptr: np.ndarray
+    half_bandwidth: int
+    band_rows: np.ndarray
+    band_cols: np.ndarray
 
     @property
     def size(self) -> int:
         return (2 * self.m + 1) * self.n
+
+    @property
+    def narrow(self) -> bool:
+        """Band storage pays off (LAPACK banded LU) over a general sparse LU."""
+        return 4 * self.half_bandwidth < self.size
+
+    def banded(self, blocks: np.ndarray) -> np.ndarray:
+        """LAPACK band storage (2u+1, size) of the block data (nb, n, n)."""
+        ab = np.zeros((2 * self.half_bandwidth + 1, self.size), dtype=complex)
+        ab[self.band_rows, self.band_cols] = blocks.reshape(-1)
+        return ab
+
+    def apply(self, blocks: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Matrix-vector product of the block matrix with x (size,)."""
+        m, n = self.m, self.n
+        y = np.zeros((2 * m + 1, n), dtype=complex)
+        np.add.at(y, self.k_index + m, np.einsum("bij,bj->bi", blocks, x.reshape(2 * m + 1, n)[self.l_index + m]))
+        return y.reshape(-1)
 
     def matrix(self, blocks: np.ndarray) -> sp.csc_matrix:
         """CSC matrix from block data (nb, n, n)."""
@@ -119,8 +143,9 @@ def block_pattern(m: int, n: int, band: int) -> BlockPattern:
     indptr = np.zeros(size + 1, dtype=np.int64)
     np.add.at(indptr, cols + 1, 1)
     indptr = np.cumsum(indptr)
+    u = (band + 1) * n - 1
     return BlockPattern(m, n, band, k_index, l_index, order, rows[order].astype(np.int32),
-                        indptr.astype(np.int32))
+                        indptr.astype(np.int32), u, u + rows - cols, cols)
 
 
 def _take(X: np.ndarray, d: np.ndarray) -> np.ndarray:
@@ -304,15 +329,21 @@ def hill_operator(spectra: Spectra, omega: float, m: int) -> HillOperator:
 
 
 def solve_balance(op: HillOperator) -> tuple[np.ndarray, float]:
-    """Solve W x = rhs by sparse LU: harmonics (2m+1, n) and the relative residual."""
+    """Solve W x = rhs: LAPACK banded LU for narrow bands, else sparse LU (no dense
+    matrix either way). Returns harmonics (2m+1, n) and the relative residual."""
+    pat, W = op.pattern, op.blocks[0]
     try:
-        x = spla.splu(op.W).solve(op.rhs)
-    except RuntimeError as exc:  # exactly singular: resonance of an undamped system
+        if pat.narrow:
+            u = pat.half_bandwidth
+            x = sla.solve_banded((u, u), pat.banded(W), op.rhs, overwrite_ab=True, check_finite=False)
+        else:
+            x = spla.splu(op.W).solve(op.rhs)
+    except (RuntimeError, np.linalg.LinAlgError) as exc:  # exactly singular: undamped resonance
         raise InputError(f"the harmonic balance matrix is singular at omega = {op.omega:.6g} rad/s "
                          f"(an undamped resonance: a characteristic exponent is a multiple of i*omega); "
                          f"add damping or move omega ({exc})") from None
     scale = np.linalg.norm(op.rhs)
-    residual = np.linalg.norm(op.W @ x - op.rhs)
+    residual = np.linalg.norm(pat.apply(W, x) - op.rhs)
     q = x.reshape(2 * op.m + 1, op.n)
     q = 0.5 * (q + np.conj(q[::-1]))  # enforce the conjugate symmetry of a real solution
     return q, float(residual / scale if scale > 0 else residual)
