@@ -17,9 +17,10 @@ import scipy.linalg as sla
 
 from .hb import (HillOperator, _take, block_pattern, check_form, check_harmonics, coefficient_band, hill_operator,
                  output_spectrum, periodic_solution, solve_balance, system_spectra, PeriodicSolution)
-from .hill import _DENSE_MAX, check_method, first_order_matrix, operator_exponents, real_form
-from .spectra import spectral_tail
+from .hill import _DENSE_MAX, FloquetExponents, check_method, first_order_matrix, operator_exponents, real_form
+from .spectra import synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
+from .timedomain import exponents_from_monodromy, gauss_angles, magnus_steps, magnus_transition, monodromy_exponents
 
 __all__ = ["PointResult", "solve_point", "SpeedSolver"]
 
@@ -43,9 +44,12 @@ class PointResult:
     stable: bool
 
 
-def _point(sol: PeriodicSolution, op: HillOperator | None, method: str, n: int) -> PointResult:
-    if op is not None:
-        fl = operator_exponents(op, method)
+def _point(sol: PeriodicSolution, stability: HillOperator | FloquetExponents | None, method: str,
+           n: int) -> PointResult:
+    """PointResult from a periodic solution and a Hill operator to solve (or exponents
+    already found, or None without stability)."""
+    if stability is not None:
+        fl = stability if isinstance(stability, FloquetExponents) else operator_exponents(stability, method)
         exps, mults, max_real, stable = fl.exponents, fl.multipliers, fl.max_real, fl.stable
     else:
         exps = mults = np.full(2 * n, np.nan + 0j)
@@ -62,12 +66,8 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, meth
     method = check_method(method)
     op = hill_operator(system_spectra(system, m, form), system.omega, m)
     sol = periodic_solution(system, m, form=form, operator=op)
-    if method == "monodromy" and stability:
-        from .timedomain import monodromy_exponents
-
-        fl = monodromy_exponents(system)
-        return PointResult(sol.omega, sol.output_names, sol.output_harmonics, sol.output_amplitude(),
-                           sol.output_mean(), sol.residual, fl.exponents, fl.multipliers, fl.max_real, fl.stable)
+    if method in ("monodromy", "magnus") and stability:
+        return _point(sol, monodromy_exponents(system, method), method, system.n)
     return _point(sol, op if stability else None, method, system.n)
 
 
@@ -123,6 +123,11 @@ class SpeedSolver:
         K = (Ms.shape[0] - 1) // 2
         self.identity_mass = bool(np.array_equal(Ms[K], np.eye(model.n)) and not np.any(np.delete(Ms, K, axis=0)))
         self.real_terms = None
+        if stability and self.method == "magnus":  # coefficients at the Gauss angles, per power of omega
+            self.steps = magnus_steps(model.samples)
+            theta = gauss_angles(self.steps)
+            self.gauss = (synthesize(model._power_spectra[0], theta), synthesize(model._power_spectra[1], theta),
+                          synthesize(model._power_spectra[2], theta))
         if stability and (self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX)):
             lu = None if self.identity_mass else sla.lu_factor(self._dense(Md))
             self.real_terms = np.stack([real_form(first_order_matrix(self._dense(W[p]), self._dense(V[p]) if p < len(V)
@@ -155,6 +160,13 @@ class SpeedSolver:
         model = self.model
         sol = PeriodicSolution(op.omega, q, output_spectrum(self.output_spectra, q), model.coordinate_names,
                                model.output_names, residual, self.form)
-        if self.method == "monodromy" and self.stability:
-            return solve_point(model.at(omega), self.m, True, "monodromy", form=self.form)
-        return _point(sol, op if self.stability else None, self.method, model.n)
+        if not self.stability:
+            return _point(sol, None, self.method, model.n)
+        if self.method == "monodromy":
+            return _point(sol, monodromy_exponents(model.at(omega)), self.method, model.n)
+        if self.method == "magnus":
+            Mg, Cg, Kg = self.gauss
+            Phi = magnus_transition(Mg, Cg @ op.omega ** np.arange(Cg.shape[-1]), Kg @ op.omega ** np.arange(Kg.shape[-1]),
+                                    2 * np.pi / op.omega / self.steps)
+            return _point(sol, exponents_from_monodromy(Phi, op.omega, "magnus"), self.method, model.n)
+        return _point(sol, op, self.method, model.n)

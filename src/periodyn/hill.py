@@ -35,7 +35,7 @@ from .system import RheoLinear, Spectra
 
 __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS"]
 
-METHODS = ("auto", "sparse", "dense", "monodromy")
+METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
 _DENSE_MAX = 600  # first-order Hill size up to which "auto" uses LAPACK
 
 
@@ -311,8 +311,8 @@ def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
     method: "auto" (dense up to a first-order size of 600, else sparse), "sparse", "dense".
     """
     m = check_harmonics(harmonics)
-    if check_method(method) == "monodromy":
-        raise InputError("hill_exponents works on spectra; use characteristic_exponents(system, m, method='monodromy')")
+    if check_method(method) in ("monodromy", "magnus"):
+        raise InputError(f"hill_exponents works on spectra; use characteristic_exponents(system, m, method={method!r})")
     n = mass.shape[1]
     spectra = Spectra(mass, damping, stiffness, np.zeros((mass.shape[0], n)), np.zeros((1, 0, n)))
     return operator_exponents(hill_operator(spectra, omega, m), method)
@@ -323,13 +323,15 @@ def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "
     """Characteristic exponents of the homogeneous rheo-linear system.
 
     method: "sparse" (ARPACK shift-invert subset), "dense" (all Hill eigenvalues),
-    "monodromy" (integration over one period; ``harmonics`` unused), "auto".
+    "monodromy" (adaptive integration over one period, the reference), "magnus"
+    (fixed-step 4th-order Magnus monodromy, fast for small stiff systems), "auto";
+    ``harmonics`` is unused by the two monodromy methods.
     form: "direct" (Hill on M, C, K) or "inverse-mass" (the paper's eq. 26-27 on P, Q).
     """
     method = check_method(method)
-    if method == "monodromy":
+    if method in ("monodromy", "magnus"):
         from .timedomain import monodromy_exponents
 
-        return monodromy_exponents(system)
+        return monodromy_exponents(system, method)
     m = check_harmonics(harmonics)
     return operator_exponents(hill_operator(system_spectra(system, m, form), system.omega, m), method)

@@ -39,3 +39,13 @@ def test_speed_solver_rejects_bad_speed():
     solver = SpeedSolver(periodyn.examples.pendulum(), 4)
     with pytest.raises(periodyn.InputError, match="positive"):
         solver.solve(-1.0)
+
+
+def test_speed_solver_magnus_matches_dense_hill_on_the_slider_crank():
+    model = periodyn.examples.slider_crank(damping=0.02, samples=64)
+    fast, hill = SpeedSolver(model, 12, method="magnus"), SpeedSolver(model, 12, method="dense")
+    for w in (150.0, 205.0, 268.0):
+        a, b = fast.solve(w), hill.solve(w)
+        assert_same_spectrum(a.multipliers, b.multipliers, atol=1e-6)
+        assert a.stable == b.stable
+        np.testing.assert_array_equal(a.output_harmonics, b.output_harmonics)

@@ -23,6 +23,7 @@ import scipy.linalg as sla
 
 from ..errors import ConvergenceError, InputError
 from ..spectra import fourier_coefficients, to_samples
+from ..timedomain import gauss_angles, magnus_transition
 
 __all__ = ["ReducedLinearization", "reduce_linearization", "propagate", "monodromy", "floquet_multipliers",
            "ihb_multipliers"]
@@ -110,40 +111,13 @@ def _interpolate(samples: np.ndarray, theta: np.ndarray) -> np.ndarray:
     return (np.cos(arg) @ cf.real - np.sin(arg) @ cf.imag).reshape((len(theta),) + samples.shape[1:])
 
 
-def _expm_batch(X: np.ndarray) -> np.ndarray:
-    """exp of a batch of matrices (k, d, d): scaling to norm <= 1/2, Taylor to degree 12
-    (truncation < 1e-16 relative), squaring."""
-    nrm = np.max(np.sum(np.abs(X), axis=1))
-    s = max(0, int(np.ceil(np.log2(max(nrm, 1e-300) / 0.5))))
-    X = X / 2.0 ** s
-    E = np.eye(X.shape[1]) + X / 12.0
-    for k in range(11, 0, -1):
-        E = np.eye(X.shape[1]) + (X @ E) / k
-    for _ in range(s):
-        E = E @ E
-    return E
-
-
 def propagate(red: ReducedLinearization, t0: float, t1: float, steps: int) -> np.ndarray:
     """Transition matrix (2r, 2r) of ``y' = A(t) y``, ``y = (z, z')``, from t0 to t1 (s) by
-    the 4th-order Magnus integrator with 2 Gauss points per step (robust for stiff
-    oscillatory modes); coefficients by trigonometric interpolation (periodic in t)."""
-    r = red.r
-    h = (t1 - t0) / steps
-    g = np.sqrt(3) / 6
-    tg = t0 + (np.arange(steps)[:, None] + np.array([0.5 - g, 0.5 + g])[None, :]).ravel() * h
-    theta = 2 * np.pi * tg / red.period
+    the 4th-order Magnus integrator of :func:`periodyn.timedomain.magnus_transition`
+    (robust for stiff oscillatory modes); coefficients by trigonometric interpolation."""
+    theta = gauss_angles(steps, 2 * np.pi * t0 / red.period, 2 * np.pi * t1 / red.period)
     Ms, Cs, Ks = (_interpolate(a, theta) for a in (red.mass, red.damping, red.stiffness))
-    A = np.zeros((2 * steps, 2 * r, 2 * r))
-    A[:, :r, r:] = np.eye(r)
-    A[:, r:, :r] = -np.linalg.solve(Ms, Ks)
-    A[:, r:, r:] = -np.linalg.solve(Ms, Cs)
-    A1, A2 = A[0::2], A[1::2]
-    E = _expm_batch(0.5 * h * (A1 + A2) + (np.sqrt(3) / 12) * h * h * (A2 @ A1 - A1 @ A2))
-    Phi = np.eye(2 * r)
-    for k in range(steps):
-        Phi = E[k] @ Phi
-    return Phi
+    return magnus_transition(Ms, Cs, Ks, (t1 - t0) / steps)
 
 
 def monodromy(red: ReducedLinearization, steps: int | None = None) -> np.ndarray:
