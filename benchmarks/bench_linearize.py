@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "unit"))
 from test_planar_kernels import kernel_sample, motion_twin  # noqa: E402  (the NumPy twin)
 
 import periodyn  # noqa: E402
+from periodyn.analysis import SpeedSolver  # noqa: E402
 from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
 from periodyn.kernels.assembly import linearize_samples  # noqa: E402
 from periodyn.kinematics import nominal_configurations  # noqa: E402
@@ -50,6 +51,7 @@ def main(argv=None) -> None:
     ap.add_argument("--samples", type=int, default=64)
     ap.add_argument("--harmonics", type=int, default=12)
     ap.add_argument("--relinearize-subset", type=int, default=50)
+    ap.add_argument("--method", default="magnus", help="stability method (magnus, dense, sparse, auto)")
     args = ap.parse_args(argv)
 
     w1 = first_bending_frequency(slider_crank_model())
@@ -79,10 +81,11 @@ def main(argv=None) -> None:
 
     omega = np.linspace(150.0, 300.0, args.speeds)
     split = omega_split(model, args.samples, name="slider_crank")
-    periodyn.periodic_solution(split.at(omega[0]), args.harmonics)
+    hb_only = SpeedSolver(split, args.harmonics, stability=False)
+    hb_only.solve(omega[0])
     t0 = time.perf_counter()
     for w in omega:
-        periodyn.periodic_solution(split.at(w), args.harmonics)
+        hb_only.solve(w)
     t_hb_split = time.perf_counter() - t0
     t0 = time.perf_counter()
     for w in omega[:: max(1, args.speeds // args.relinearize_subset)]:
@@ -92,23 +95,24 @@ def main(argv=None) -> None:
     print(f"  omega-split:        {t_hb_split:8.2f} s  {args.speeds / t_hb_split:8.0f} speeds/s")
     print(f"  re-linearize/speed: {t_hb_relin:8.2f} s  {args.speeds / t_hb_relin:8.0f} speeds/s")
     print(f"  speed-up: {t_hb_relin / t_hb_split:.1f}x")
-    periodyn.solve_point(split.at(omega[0]), args.harmonics, stability=True)  # warm-up
+    solver = SpeedSolver(split, args.harmonics, method=args.method)
+    solver.solve(omega[0])  # warm-up
     t0 = time.perf_counter()
     for w in omega:
-        periodyn.solve_point(split.at(w), args.harmonics, stability=True)
+        solver.solve(w)
     t_sweep_split = time.perf_counter() - t0
     subset = omega[:: max(1, args.speeds // args.relinearize_subset)]
     t0 = time.perf_counter()
     for w in subset:
-        periodyn.solve_point(rheo_linear(model, w, args.samples), args.harmonics, stability=True)
+        periodyn.solve_point(rheo_linear(model, w, args.samples), args.harmonics, stability=True, method=args.method)
     t_relin = (time.perf_counter() - t0) / subset.size * args.speeds
-    print(f"{args.speeds}-speed sweep with stability (m = {args.harmonics}, one core)")
+    print(f"{args.speeds}-speed sweep with stability (m = {args.harmonics}, method {args.method}, one core)")
     print(f"  omega-split:        {t_sweep_split:8.2f} s  {args.speeds / t_sweep_split:8.0f} speeds/s")
     print(f"  re-linearize/speed: {t_relin:8.2f} s  {args.speeds / t_relin:8.0f} speeds/s "
           f"(timed on {subset.size} speeds)")
     print(f"  speed-up: {t_relin / t_sweep_split:.1f}x")
     t0 = time.perf_counter()
-    sweep(split, omega, args.harmonics, stability=True, workers=1, progress=False)
+    sweep(split, omega, args.harmonics, stability=True, method=args.method, workers=1, progress=False)
     t = time.perf_counter() - t0
     print(f"  periodyn.sweep (omega-split, stability, workers=1): {t:.2f} s  {args.speeds / t:.0f} speeds/s")
 
