@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from .hb import (HillOperator, _take, block_pattern, check_form, check_harmonics, coefficient_band, hill_operator,
-                 output_spectrum, periodic_solution, solve_balance, system_spectra, PeriodicSolution)
+from .hb import (HillOperator, PeriodicSolution, _take, block_pattern, check_form, check_harmonics, check_sampling,
+                 coefficient_band, hill_operator, output_spectrum, periodic_solution, solve_balance, system_spectra)
 from .hill import _DENSE_MAX, FloquetExponents, check_method, first_order_matrix, operator_exponents, real_form
-from .spectra import synthesize
+from .spectra import fourier_coefficients, synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
 from .timedomain import exponents_from_monodromy, gauss_angles, magnus_steps, magnus_transition, monodromy_exponents
 
@@ -85,22 +85,16 @@ class SpeedSolver:
         self.stability = stability
         self.method = check_method(method)
         self.form = check_form(form)
-        if model.samples < 2 * m + 1:
-            system_spectra(model.at(1.0), m, form)  # raises the sample-count error
         Ms, Cs, Ks, fs, Gs = model._power_spectra  # powers on the last axis
         if form == "inverse-mass":
             Minv = np.linalg.inv(model.mass)
-            from .spectra import fourier_coefficients
-
             Cs = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.damping, 0, -1)))
             Ks = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.stiffness, 0, -1)))
             fs = fourier_coefficients(np.einsum("pij,pjq->piq", Minv, np.moveaxis(model.force, 0, -1)))
             Ms = np.zeros_like(Ms)
             Ms[(Ms.shape[0] - 1) // 2] = np.eye(model.n)
         self.output_spectra = Gs
-        system_spectra(RheoLinear(1.0, model.mass, model.damping.sum(0), model.stiffness.sum(0), model.force.sum(0),
-                                  model.coordinate_names, model.output_maps, model.output_names, None,
-                                  Spectra(Ms, Cs.sum(-1), Ks.sum(-1), fs.sum(-1), Gs)), m, "direct")  # aliasing check
+        check_sampling(model.samples, m, Ms, Cs, Ks)
         band = max(coefficient_band(Spectra(Ms, Cs[..., j], Ks[..., i], None, None), m)
                    for j in range(Cs.shape[-1]) for i in range(Ks.shape[-1]))
         self.pattern = pat = block_pattern(m, model.n, band)

@@ -49,21 +49,26 @@ def check_form(form: str) -> str:
     return form
 
 
+def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> None:
+    """Refuse p < 2m+1 samples; warn (AliasingWarning) when the top quarter of any
+    coefficient spectrum is above 1e-6 of its largest harmonic."""
+    if p < 2 * m + 1:
+        raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
+                         f"(>= {4 * m + 1} to keep all coefficient couplings)")
+    tail = max(spectral_tail(X) for X in coefficient_spectra)
+    if tail > _TAIL_WARN:
+        warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
+                      "increase samples to avoid aliasing", AliasingWarning, stacklevel=4)
+
+
 def system_spectra(system: RheoLinear, harmonics: int, form: str) -> Spectra:
     """Coefficient spectra for the chosen form, after checking the sampling is adequate."""
     m = check_harmonics(harmonics)
     if not isinstance(system, RheoLinear):
         raise InputError(f"expected a periodyn.RheoLinear system, got {type(system).__name__}; "
                          "build one with RheoLinear.from_functions/from_samples or model.at(omega)")
-    p = system.samples
-    if p < 2 * m + 1:
-        raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
-                         f"(>= {4 * m + 1} to keep all coefficient couplings)")
     spectra = system.spectra if check_form(form) == "direct" else system.inverse_mass_spectra
-    tail = max(spectral_tail(spectra.stiffness), spectral_tail(spectra.damping), spectral_tail(spectra.mass))
-    if tail > _TAIL_WARN:
-        warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
-                      "increase samples to avoid aliasing", AliasingWarning, stacklevel=3)
+    check_sampling(system.samples, m, spectra.mass, spectra.damping, spectra.stiffness)
     return spectra
 
 
@@ -131,10 +136,10 @@ class BlockPattern:
 
 @lru_cache(maxsize=64)
 def block_pattern(m: int, n: int, band: int) -> BlockPattern:
+    """The cached block pattern of (2m+1)n systems with coefficient band ``band``."""
     ks, ls = np.meshgrid(np.arange(-m, m + 1), np.arange(-m, m + 1), indexing="ij")
     keep = np.abs(ks - ls) <= band
     k_index, l_index = ks[keep], ls[keep]
-    nb = k_index.size
     i_loc, j_loc = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
     rows = ((k_index + m)[:, None, None] * n + i_loc[None]).reshape(-1)
     cols = ((l_index + m)[:, None, None] * n + j_loc[None]).reshape(-1)
