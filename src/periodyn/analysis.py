@@ -123,17 +123,12 @@ class SpeedSolver:
             self.gauss = (synthesize(model._power_spectra[0], theta), synthesize(model._power_spectra[1], theta),
                           synthesize(model._power_spectra[2], theta))
         if stability and (self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX)):
-            lu = None if self.identity_mass else sla.lu_factor(self._dense(Md))
-            self.real_terms = np.stack([real_form(first_order_matrix(self._dense(W[p]), self._dense(V[p]) if p < len(V)
-                                                                     else np.zeros_like(self._dense(W[p])), lu,
-                                                                     identity=(p == 0)), m, model.n)
-                                        for p in range(len(W))])
-
-    def _dense(self, blocks: np.ndarray) -> np.ndarray:
-        pat, n = self.pattern, self.model.n
-        out = np.zeros((2 * pat.m + 1, n, 2 * pat.m + 1, n), dtype=complex)
-        out[pat.k_index + pat.m, :, pat.l_index + pat.m, :] = blocks
-        return out.reshape(pat.size, pat.size)
+            # A(w) = sum_p w^p A_p with A_p = [[0, I if p = 0], [-Mh^-1 W_p, -Mh^-1 V_p]] (V_p = 0 past its degree)
+            lu = None if self.identity_mass else sla.lu_factor(pat.dense(Md))
+            V_padded = np.concatenate([V, np.zeros((len(W) - len(V),) + V.shape[1:], dtype=complex)])
+            self.real_terms = np.stack([
+                real_form(first_order_matrix(pat.dense(Wp), pat.dense(Vp), lu, identity=(p == 0)), m, model.n)
+                for p, (Wp, Vp) in enumerate(zip(W, V_padded))])
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""

@@ -115,6 +115,13 @@ class BlockPattern:
         """Band storage pays off (LAPACK banded LU) over a general sparse LU."""
         return 4 * self.half_bandwidth < self.size
 
+    def dense(self, blocks: np.ndarray) -> np.ndarray:
+        """Dense (size, size) array of the block data (nb, n, n); for dense Hill only."""
+        m, n = self.m, self.n
+        out = np.zeros((2 * m + 1, n, 2 * m + 1, n), dtype=complex)
+        out[self.k_index + m, :, self.l_index + m, :] = blocks
+        return out.reshape(self.size, self.size)
+
     def banded(self, blocks: np.ndarray) -> np.ndarray:
         """LAPACK band storage (2u+1, size) of the block data (nb, n, n)."""
         ab = np.zeros((2 * self.half_bandwidth + 1, self.size), dtype=complex)
@@ -317,10 +324,7 @@ class HillOperator:
 
     def dense(self, which: int) -> np.ndarray:
         """Block matrix 0 (W), 1 (V) or 2 (Mh) as a dense ((2m+1)n)^2 array (Hill only)."""
-        pat, n = self.pattern, self.n
-        out = np.zeros((2 * pat.m + 1, n, 2 * pat.m + 1, n), dtype=complex)
-        out[pat.k_index + pat.m, :, pat.l_index + pat.m, :] = self.blocks[which]
-        return out.reshape(pat.size, pat.size)
+        return self.pattern.dense(self.blocks[which])
 
 
 def hill_operator(spectra: Spectra, omega: float, m: int) -> HillOperator:
