@@ -4,8 +4,9 @@ Prints, in one run:
 1. per-sample linearization (kinematics derivatives + element assembly + reduction,
    eq. 5-10) with the jitted kernel vs its plain-NumPy twin from the tests, and the
    per-sample cost of the parallel (prange) filling of a whole period;
-2. a 1000-speed sweep with stability on one core using the omega-split model vs
-   re-linearizing at every speed (the latter timed on a subset and scaled).
+2. a 1000-speed sweep, without and with stability, on one core using the omega-split
+   model (SpeedSolver.solve_many, the sweep path) vs re-linearizing at every speed
+   (rheo_linear + solve_point with the same stability method, timed on a subset and scaled).
 
 Run: python benchmarks/bench_linearize.py [--speeds 1000] [--samples 64] [--harmonics 12]
 """
@@ -81,41 +82,26 @@ def main(argv=None) -> None:
 
     omega = np.linspace(150.0, 300.0, args.speeds)
     split = omega_split(model, args.samples, name="slider_crank")
-    hb_only = SpeedSolver(split, args.harmonics, stability=False)
-    hb_only.solve(omega[0])
-    t0 = time.perf_counter()
-    for w in omega:
-        hb_only.solve(w)
-    t_hb_split = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    for w in omega[:: max(1, args.speeds // args.relinearize_subset)]:
-        periodyn.periodic_solution(rheo_linear(model, w, args.samples), args.harmonics)
-    t_hb_relin = (time.perf_counter() - t0) / omega[:: max(1, args.speeds // args.relinearize_subset)].size * args.speeds
-    print(f"{args.speeds}-speed sweep, periodic solution only (m = {args.harmonics}, one core)")
-    print(f"  omega-split:        {t_hb_split:8.2f} s  {args.speeds / t_hb_split:8.0f} speeds/s")
-    print(f"  re-linearize/speed: {t_hb_relin:8.2f} s  {args.speeds / t_hb_relin:8.0f} speeds/s")
-    print(f"  speed-up: {t_hb_relin / t_hb_split:.1f}x")
-    solver = SpeedSolver(split, args.harmonics, method=args.method)
-    solver.solve(omega[0])  # warm-up
-    t0 = time.perf_counter()
-    for w in omega:
-        solver.solve(w)
-    t_sweep_split = time.perf_counter() - t0
     subset = omega[:: max(1, args.speeds // args.relinearize_subset)]
-    t0 = time.perf_counter()
-    for w in subset:
-        periodyn.solve_point(rheo_linear(model, w, args.samples), args.harmonics, stability=True, method=args.method)
-    t_relin = (time.perf_counter() - t0) / subset.size * args.speeds
-    print(f"{args.speeds}-speed sweep with stability (m = {args.harmonics}, method {args.method}, one core)")
-    print(f"  omega-split:        {t_sweep_split:8.2f} s  {args.speeds / t_sweep_split:8.0f} speeds/s")
-    print(f"  re-linearize/speed: {t_relin:8.2f} s  {args.speeds / t_relin:8.0f} speeds/s "
-          f"(timed on {subset.size} speeds)")
-    print(f"  speed-up: {t_relin / t_sweep_split:.1f}x")
+    for stability in (False, True):
+        label = f"with stability (method {args.method})" if stability else "periodic solution only"
+        solver = SpeedSolver(split, args.harmonics, stability=stability, method=args.method)
+        solver.solve_many(omega[:2])  # warm-up (jit, caches)
+        t_split = best_time(lambda: solver.solve_many(omega), repeat=3)
+        relin = lambda: [periodyn.solve_point(rheo_linear(model, w, args.samples), args.harmonics,  # noqa: E731
+                                              stability=stability, method=args.method) for w in subset]
+        relin()
+        t_relin = best_time(relin, repeat=2) / subset.size * args.speeds
+        print(f"{args.speeds}-speed sweep, {label} (m = {args.harmonics}, one core)")
+        print(f"  omega-split (SpeedSolver.solve_many): {t_split:8.3f} s  {args.speeds / t_split:8.0f} speeds/s")
+        print(f"  re-linearize every speed:             {t_relin:8.3f} s  {args.speeds / t_relin:8.0f} speeds/s "
+              f"(timed on {subset.size} speeds)")
+        print(f"  speed-up: {t_relin / t_split:.1f}x")
     t0 = time.perf_counter()
     sweep(split, omega, args.harmonics, stability=True, method=args.method, workers=1, progress=False)
     t = time.perf_counter() - t0
-    print(f"  periodyn.sweep (omega-split, stability, workers=1): {t:.2f} s  {args.speeds / t:.0f} speeds/s")
-
+    print(f"  periodyn.sweep (omega-split, stability, workers=1, incl. result dataset): {t:.2f} s  "
+          f"{args.speeds / t:.0f} speeds/s")
 
 if __name__ == "__main__":
     main()

@@ -3,9 +3,9 @@ amplitudes, and (optionally) the characteristic exponents.
 
 :func:`solve_point` works on any :class:`RheoLinear`. :class:`SpeedSolver` serves a
 constant-speed :class:`OmegaSplitModel`: the Hill/HB blocks are polynomials in omega
-(``W = sum_p w^p W_p`` up to p = 4, ``V`` up to 2, ``Mh`` constant), so their terms, and
-for small systems the real first-order Hill matrix terms, are built once per model and a
-speed costs one polynomial evaluation, one sparse LU and one eigen-solve.
+(``W = sum_p w^p W_p`` up to p = 4, ``V`` up to 2, ``Mh`` constant), so their terms are
+built once per model, and a chunk of speeds costs polynomial evaluations, stacked LAPACK
+solves and eigen-solves, and jitted kernels (:class:`SpeedBatch` holds the columns).
 """
 
 from __future__ import annotations
@@ -15,14 +15,18 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from .errors import ConvergenceError, InputError
 from .hb import (HillOperator, PeriodicSolution, _take, block_pattern, check_form, check_harmonics, check_sampling,
-                 coefficient_band, hill_operator, output_spectrum, periodic_solution, solve_balance, system_spectra)
-from .hill import _DENSE_MAX, FloquetExponents, check_method, first_order_matrix, operator_exponents, real_form
+                 coefficient_band, half_range_and_mean, hill_operator, output_spectrum, periodic_solution,
+                 solve_balance, system_spectra)
+from .hill import (_DENSE_MAX, FloquetExponents, check_method, dense_exponents_batch, first_order_matrix,
+                   from_real_basis, operator_exponents, real_form, to_real_basis)
+from .kernels.floquet import magnus_monodromies
 from .spectra import fourier_coefficients, synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
-from .timedomain import exponents_from_monodromy, gauss_angles, magnus_steps, magnus_transition, monodromy_exponents
+from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents
 
-__all__ = ["PointResult", "solve_point", "SpeedSolver"]
+__all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,9 +75,64 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, meth
     return _point(sol, op if stability else None, method, system.n)
 
 
+@dataclass(frozen=True, eq=False)
+class SpeedBatch:
+    """Results at S speeds, columnar (the fields of :class:`PointResult` with a leading
+    speed axis). message: (S,) str, empty where the point was solved, else why it failed
+    (its stability entries are then NaN and ``stable`` False)."""
+
+    omega: np.ndarray
+    output_names: tuple[str, ...]
+    output_harmonics: np.ndarray
+    amplitude: np.ndarray
+    mean: np.ndarray
+    residual: np.ndarray
+    exponents: np.ndarray
+    multipliers: np.ndarray
+    max_real: np.ndarray
+    stable: np.ndarray
+    message: np.ndarray
+
+    def __len__(self) -> int:
+        return self.omega.shape[0]
+
+    @classmethod
+    def from_points(cls, omegas: np.ndarray, points: list[PointResult | None], messages: list[str]) -> SpeedBatch:
+        """Columns from per-speed results (None where the point failed, with its message);
+        at least one point must have been solved."""
+        ok = next((p for p in points if p is not None), None)
+        if ok is None:
+            raise ConvergenceError("no speed of the batch was solved: " + "; ".join(messages))
+        filled = [p if p is not None else
+                  PointResult(float(w), ok.output_names, np.full_like(ok.output_harmonics, np.nan),
+                              np.full_like(ok.amplitude, np.nan), np.full_like(ok.mean, np.nan), float("nan"),
+                              np.full_like(ok.exponents, np.nan), np.full_like(ok.multipliers, np.nan), float("nan"),
+                              False) for w, p in zip(omegas, points)]
+        return cls(np.asarray(omegas, float), ok.output_names,
+                   *(np.stack([getattr(p, f) for p in filled]) for f in ("output_harmonics", "amplitude", "mean",
+                                                                         "residual", "exponents", "multipliers",
+                                                                         "max_real", "stable")),
+                   np.asarray(messages, dtype=str))
+
+    def point(self, i: int) -> PointResult:
+        """The PointResult of speed i."""
+        return PointResult(float(self.omega[i]), self.output_names, self.output_harmonics[i], self.amplitude[i],
+                           self.mean[i], float(self.residual[i]), self.exponents[i], self.multipliers[i],
+                           float(self.max_real[i]), bool(self.stable[i]))
+
+
+_BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
+_DENSE_BALANCE_MAX = 400  # HB size up to which speeds are solved as stacked real dense systems
+
+
 class SpeedSolver:
     """Per-model precomputation for speed sweeps of an :class:`OmegaSplitModel`.
 
+    The Hill/HB blocks are polynomials in omega; their terms, and where they pay off the
+    terms of the real HB matrix, of the real first-order Hill matrix (dense Hill) or of
+    the Magnus system matrix at the Gauss angles, are built once. ``solve_many(omegas)``
+    then treats a chunk of speeds with stacked LAPACK calls and jitted kernels; the
+    large-system paths (banded/sparse HB, ARPACK Hill, DOP853 monodromy) go speed by speed.
     ``solve(omega)`` gives the same :class:`PointResult` as
     ``solve_point(model.at(omega), harmonics, stability, method, form=form)``.
     """
@@ -85,6 +144,7 @@ class SpeedSolver:
         self.stability = stability
         self.method = check_method(method)
         self.form = check_form(form)
+        n = model.n
         Ms, Cs, Ks, fs, Gs = model._power_spectra  # powers on the last axis
         if form == "inverse-mass":
             Minv = np.linalg.inv(model.mass)
@@ -92,12 +152,12 @@ class SpeedSolver:
             Ks = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.stiffness, 0, -1)))
             fs = fourier_coefficients(np.einsum("pij,pjq->piq", Minv, np.moveaxis(model.force, 0, -1)))
             Ms = np.zeros_like(Ms)
-            Ms[(Ms.shape[0] - 1) // 2] = np.eye(model.n)
+            Ms[(Ms.shape[0] - 1) // 2] = np.eye(n)
         self.output_spectra = Gs
         check_sampling(model.samples, m, Ms, Cs, Ks)
         band = max(coefficient_band(Spectra(Ms, Cs[..., j], Ks[..., i], None, None), m)
                    for j in range(Cs.shape[-1]) for i in range(Ks.shape[-1]))
-        self.pattern = pat = block_pattern(m, model.n, band)
+        self.pattern = pat = block_pattern(m, n, band)
         d = pat.k_index - pat.l_index
         l = pat.l_index[:, None, None].astype(float)
         Md = _take(Ms, d)
@@ -115,47 +175,129 @@ class SpeedSolver:
         self.W, self.V, self.Md = W, V, Md
         self.rhs = np.stack([_take(fs[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(fs.shape[-1])])
         K = (Ms.shape[0] - 1) // 2
-        self.identity_mass = bool(np.array_equal(Ms[K], np.eye(model.n)) and not np.any(np.delete(Ms, K, axis=0)))
-        self.real_terms = None
-        if stability and self.method == "magnus":  # coefficients at the Gauss angles, per power of omega
-            self.steps = magnus_steps(model.samples)
-            theta = gauss_angles(self.steps)
-            self.gauss = (synthesize(model._power_spectra[0], theta), synthesize(model._power_spectra[1], theta),
-                          synthesize(model._power_spectra[2], theta))
+        self.identity_mass = bool(np.array_equal(Ms[K], np.eye(n)) and not np.any(np.delete(Ms, K, axis=0)))
+        self.balance_terms = self.rhs_terms = None
+        if pat.size <= _DENSE_BALANCE_MAX:  # W(w) and f(w) in the real basis, per power of omega
+            self.balance_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in W])
+            self.rhs_terms = to_real_basis(self.rhs.T, m, n, halves=1).T
+        self.real_terms = self.magnus = None
+        if stability and self.method == "magnus":  # balanced system matrix at the Gauss angles, per power of omega
+            steps = magnus_steps(model.samples)
+            theta = gauss_angles(steps)
+            Mg, Cg, Kg = (synthesize(X, theta) for X in model._power_spectra[:3])
+            self.magnus = magnus_terms(Mg, Cg, Kg)[0]
         if stability and (self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX)):
             # A(w) = sum_p w^p A_p with A_p = [[0, I if p = 0], [-Mh^-1 W_p, -Mh^-1 V_p]] (V_p = 0 past its degree)
             lu = None if self.identity_mass else sla.lu_factor(pat.dense(Md))
             V_padded = np.concatenate([V, np.zeros((len(W) - len(V),) + V.shape[1:], dtype=complex)])
             self.real_terms = np.stack([
-                real_form(first_order_matrix(pat.dense(Wp), pat.dense(Vp), lu, identity=(p == 0)), m, model.n)
+                real_form(first_order_matrix(pat.dense(Wp), pat.dense(Vp), lu, identity=(p == 0)), m, n)
                 for p, (Wp, Vp) in enumerate(zip(W, V_padded))])
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
-        w = float(omega)
-        if not np.isfinite(w) or w <= 0:
-            from .errors import InputError
-
-            raise InputError(f"omega must be a positive finite driving speed in rad/s, got {omega!r}")
+        w = check_speeds(omega)[0]
         pw = w ** np.arange(len(self.W))
         real = None if self.real_terms is None else np.tensordot(pw, self.real_terms, 1)
         return HillOperator(w, self.pattern, (np.tensordot(pw, self.W, 1), np.tensordot(pw[: len(self.V)], self.V, 1),
                                               self.Md), pw[: len(self.rhs)] @ self.rhs, self.identity_mass, real)
 
     def solve(self, omega: float) -> PointResult:
-        """Periodic solution and stability at one speed (rad/s)."""
-        op = self.operator(omega)
-        q, residual = solve_balance(op)
-        model = self.model
-        sol = PeriodicSolution(op.omega, q, output_spectrum(self.output_spectra, q), model.coordinate_names,
-                               model.output_names, residual, self.form)
-        if not self.stability:
-            return _point(sol, None, self.method, model.n)
-        if self.method == "monodromy":
-            return _point(sol, monodromy_exponents(model.at(omega)), self.method, model.n)
-        if self.method == "magnus":
-            Mg, Cg, Kg = self.gauss
-            Phi = magnus_transition(Mg, Cg @ op.omega ** np.arange(Cg.shape[-1]), Kg @ op.omega ** np.arange(Kg.shape[-1]),
-                                    2 * np.pi / op.omega / self.steps)
-            return _point(sol, exponents_from_monodromy(Phi, op.omega, "magnus"), self.method, model.n)
-        return _point(sol, op, self.method, model.n)
+        """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
+        when the stability analysis fails there."""
+        batch = self.solve_many([omega])
+        if batch.message[0]:
+            raise ConvergenceError(str(batch.message[0]))
+        return batch.point(0)
+
+    def solve_many(self, omegas) -> SpeedBatch:
+        """Periodic solutions and stability at the speeds omegas (S,) rad/s, in chunks whose
+        stacked matrices stay below a few million entries."""
+        w = check_speeds(omegas)
+        size = 2 * self.pattern.size if self.real_terms is not None else self.pattern.size
+        chunk = int(np.clip(_BATCH_ELEMENTS // size**2, 1, 256))
+        parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
+        return SpeedBatch(w, self.model.output_names,
+                          *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
+                            if f not in ("omega", "output_names")))
+
+    def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Harmonics (S, 2m+1, n) and relative HB residuals (S,) at speeds w (S,)."""
+        m, n = self.m, self.model.n
+        if self.balance_terms is None:
+            solved = [solve_balance(self.operator(wi)) for wi in w]
+            return np.stack([q for q, _ in solved]), np.array([r for _, r in solved])
+        pw = w[:, None] ** np.arange(len(self.balance_terms))
+        A = np.einsum("sp,pij->sij", pw, self.balance_terms)
+        b = pw[:, : len(self.rhs_terms)] @ self.rhs_terms
+        try:
+            y = np.linalg.solve(A, b[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            for wi in w:  # names the speed: an exactly singular HB matrix is an undamped resonance
+                solve_balance(self.operator(wi))
+            raise
+        residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+        scale = np.linalg.norm(b, axis=1)
+        residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
+        q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
+        return q, residual
+
+    def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Exponents (S, 2n) (NaN where failed) and failure messages (S,) at speeds w."""
+        n, m = self.model.n, self.m
+        exps = np.full((w.size, 2 * n), np.nan + 0j)
+        message = np.full(w.size, "", dtype=object)
+        if self.magnus is not None:
+            Phi = np.empty((w.size, 2 * n, 2 * n))
+            magnus_monodromies(self.magnus, w, Phi)
+            return monodromy_exponent_array(Phi, w), message
+        if self.real_terms is not None:
+            R = np.einsum("sp,pij->sij", w[:, None] ** np.arange(len(self.real_terms)), self.real_terms)
+            exps, _, found = dense_exponents_batch(R, w, m, n)
+            for i in np.nonzero(found < 2 * n)[0]:
+                exps[i] = np.nan
+                message[i] = (f"Hill's method with m = {m} resolved {found[i]} of {2 * n} exponent clusters at "
+                              f"omega = {w[i]:.6g} rad/s; increase harmonics")
+            return exps, message
+        for i, wi in enumerate(w):
+            try:
+                if self.method == "monodromy":
+                    exps[i] = monodromy_exponents(self.model.at(wi)).exponents
+                else:
+                    exps[i] = operator_exponents(self.operator(wi), self.method).exponents
+            except ConvergenceError as exc:
+                message[i] = str(exc) or type(exc).__name__
+        return exps, message
+
+    def _solve_chunk(self, w: np.ndarray) -> SpeedBatch:
+        q, residual = self._balance(w)
+        spectrum = output_spectrum(self.output_spectra, q)  # (S, 2M+1, n_out)
+        S, H, n_out = spectrum.shape
+        half, mean = half_range_and_mean(np.moveaxis(spectrum, 0, 1).reshape(H, S * n_out))
+        M = (H - 1) // 2
+        harmonics = spectrum[:, M - self.m: M + self.m + 1]
+        if self.stability:
+            exps, message = self._stability(w)
+            multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
+            max_real = exps.real.max(axis=1)
+            stable = max_real < 0.0  # False where NaN (failed)
+        else:
+            exps = multipliers = np.full((S, 2 * self.model.n), np.nan + 0j)
+            max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)
+        return SpeedBatch(w, self.model.output_names, harmonics, half.reshape(S, n_out), mean.reshape(S, n_out),
+                          residual, exps, multipliers, max_real, stable, message.astype(str))
+
+
+def check_speeds(omegas) -> np.ndarray:
+    """Driving speeds as a float array (S,), refusing non-positive or non-finite values."""
+    try:
+        w = np.asarray(omegas, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"omega must be driving speeds in rad/s (numbers), got {omegas!r}") from None
+    if w.ndim > 1:
+        raise InputError(f"omega must be one speed or a 1-D array of speeds in rad/s, got shape {w.shape}")
+    w = np.atleast_1d(w)
+    bad = ~np.isfinite(w) | (w <= 0)
+    if bad.any():
+        raise InputError(f"omega must be a positive finite driving speed in rad/s, got {w[bad][0]!r}")
+    return w

@@ -270,17 +270,18 @@ class PeriodicSolution:
 
 
 def output_spectrum(G: np.ndarray, harmonics: np.ndarray) -> np.ndarray:
-    """Spectrum of y = G(t) q(t): G (2KG+1, n_out, n), q (2m+1, n) -> (2(m+KG')+1, n_out),
-    with KG' the significant band of G (the product is exact, no aliasing)."""
+    """Spectrum of y = G(t) q(t): G (2KG+1, n_out, n), q (..., 2m+1, n) ->
+    (..., 2(m+KG')+1, n_out), with KG' the significant band of G (the product is exact,
+    no aliasing); leading axes (e.g. speeds) are carried along."""
     KG = (G.shape[0] - 1) // 2
     mag = np.abs(G).reshape(G.shape[0], -1).max(axis=1)
     big = np.nonzero(mag > _BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
     kg = int(np.abs(big - KG).max()) if big.size else 0
     G = G[KG - kg: KG + kg + 1]
-    m = (harmonics.shape[0] - 1) // 2
-    out = np.zeros((2 * (m + kg) + 1, G.shape[1]), dtype=complex)
+    m = (harmonics.shape[-2] - 1) // 2
+    out = np.zeros(harmonics.shape[:-2] + (2 * (m + kg) + 1, G.shape[1]), dtype=complex)
     for j in range(2 * kg + 1):  # y_{l + (j-kg)} += G_{j-kg} q_l
-        out[j: j + 2 * m + 1] += harmonics @ G[j].T
+        out[..., j: j + 2 * m + 1, :] += harmonics @ G[j].T
     return out
 
 

@@ -31,6 +31,7 @@ from threadpoolctl import threadpool_limits
 
 from .errors import ConvergenceError, InputError
 from .hb import HillOperator, check_harmonics, hill_operator, system_spectra
+from .kernels.floquet import select_clusters, select_clusters_batch
 from .system import RheoLinear, Spectra
 
 __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS"]
@@ -89,100 +90,61 @@ def check_method(method: str) -> str:
     return method
 
 
-def _centroids(X: np.ndarray, m: int, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Harmonic-energy centroids of displacement eigenvectors X ((2m+1)n, k) and the
-    energy fraction in the edge harmonics |l| = m, each (k,)."""
-    energy = (np.abs(X) ** 2).reshape(2 * m + 1, n, -1).sum(axis=1)  # (2m+1, k)
-    total = energy.sum(axis=0)
-    l = np.arange(-m, m + 1)
-    edge = (energy[0] + energy[-1]) / total if m > 0 else np.ones_like(total)
-    return (l @ energy) / total, edge
-
-
-def _shift(v: np.ndarray, j: int) -> np.ndarray:
-    """v (2m+1, n) re-indexed so that entry l holds v[l + j] (zero outside)."""
-    out = np.zeros_like(v)
-    if abs(j) >= v.shape[0]:
-        return out
-    if j >= 0:
-        out[: v.shape[0] - j] = v[j:]
-    else:
-        out[-j:] = v[: v.shape[0] + j]
-    return out
-
-
 def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int, n: int,
-                           count: int) -> tuple[np.ndarray, np.ndarray]:
-    """Pick ``count`` exponents, one per cluster, from Hill eigenpairs.
+                           count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pick ``count`` exponents, one per cluster, from Hill eigenpairs (jitted kernel
+    :func:`periodyn.kernels.floquet.select_clusters`, which documents the criterion).
 
     lam: (k,) eigenvalues; X: ((2m+1)n, k) displacement parts of the eigenvectors.
-    Candidates are taken most-centred first. A candidate is another member of an accepted
-    cluster when its eigenvalue differs from an accepted one by a nonzero multiple j of
-    i*omega (to 1e-7 of |lambda| + omega; j = 0, the same eigenvalue found from two shifts,
-    to 1e-10) and its eigenvector is the accepted one shifted by j harmonics (lies in their
-    span): this keeps repeated exponents of symmetric systems, nearly coalescing exponents
-    and the two members of a period-doubling pair, whose centroids are both +-1/2.
     Returns (centred exponents (<= count,), centroids, edge energy fractions).
     """
-    c, edge = _centroids(X, m, n)
-    r = np.round(c).astype(int)
-    order = np.argsort(np.abs(c))
-    chosen, picked, raw, vecs = [], [], [], []
-    for i in order:
-        x = X[:, i].reshape(2 * m + 1, n) / np.linalg.norm(X[:, i])
-        same = []
-        for lj, vj in zip(raw, vecs):
-            d = lam[i] - lj
-            j = int(np.round(d.imag / omega))
-            tol = 1e-7 if j != 0 else 1e-10  # j = 0: the same eigenvalue found twice (two shifts)
-            if abs(d - 1j * omega * j) <= tol * (abs(lj) + omega):
-                same.append(_shift(vj, j).reshape(-1))  # member lambda_j + i j w has x[l] = v_j[l + j]
-        if same:
-            U = np.stack(same, axis=1)
-            coef, *_ = np.linalg.lstsq(U, x.reshape(-1), rcond=None)
-            if np.linalg.norm(x.reshape(-1) - U @ coef) < 0.5:
-                continue
-        chosen.append(lam[i] + 1j * omega * r[i])
-        picked.append(i)
-        raw.append(lam[i])
-        vecs.append(x)
-        if len(chosen) == count:
-            break
-    picked = np.array(picked, dtype=int)
-    return np.array(chosen), c[picked], edge[picked]
+    exps, cents, edge = np.empty(count, complex), np.empty(count), np.empty(count)
+    found = select_clusters(np.ascontiguousarray(lam, dtype=complex), np.ascontiguousarray(X, dtype=complex),
+                            float(omega), m, n, count, exps, cents, edge)
+    return exps[:found], cents[:found], edge[:found]
 
 
-def real_form(A: np.ndarray, m: int, n: int) -> np.ndarray:
-    """Unitary map of a first-order Hill matrix of a real system to a real matrix.
+def real_form(A: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
+    """Unitary map of a Hill matrix of a real system to a real matrix.
 
-    A (2N, 2N) satisfies A = J conj(A) J, J the reversal of harmonic index l -> -l; with
-    Q = [e_0, (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real (LAPACK's
-    real eigensolver is then about three times faster than the complex one)."""
-    zero, pos, neg = _real_form_indices(m, n)
+    A (halves N, halves N), N = (2m+1)n, harmonic-major blocks in each half (halves=2:
+    the first-order matrix on [x; lambda x], halves=1: the HB matrix), satisfies
+    A = J conj(A) J, J the reversal of harmonic index l -> -l; with Q = [e_0,
+    (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real (LAPACK's real
+    solvers are then about three times faster than the complex ones)."""
+    zero, pos, neg = _real_form_indices(m, n, halves)
     r2 = np.sqrt(0.5)
     AQ = np.concatenate([A[:, zero], r2 * (A[:, pos] + A[:, neg]), 1j * r2 * (A[:, pos] - A[:, neg])], axis=1)
-    return np.concatenate([AQ[zero], r2 * (AQ[pos] + AQ[neg]), -1j * r2 * (AQ[pos] - AQ[neg])], axis=0).real
+    return to_real_basis(AQ, m, n, halves)
 
 
-def _from_real_basis(Wv: np.ndarray, m: int, n: int) -> np.ndarray:
-    """Eigenvectors of the real form back in the harmonic basis: Q Wv."""
-    zero, pos, neg = _real_form_indices(m, n)
+def to_real_basis(v: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
+    """Q^H v along the first axis (see :func:`real_form`), real part; v (halves N, ...)."""
+    zero, pos, neg = _real_form_indices(m, n, halves)
+    r2 = np.sqrt(0.5)
+    return np.concatenate([v[zero], r2 * (v[pos] + v[neg]), -1j * r2 * (v[pos] - v[neg])], axis=0).real
+
+
+def from_real_basis(Wv: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
+    """Q Wv along the second-to-last axis: real-basis vectors (..., halves N, k) back in
+    the harmonic basis, complex."""
+    zero, pos, neg = _real_form_indices(m, n, halves)
     r2 = np.sqrt(0.5)
     Z = np.empty(Wv.shape, dtype=complex)
     nz, npos = zero.size, pos.size
-    Z[zero] = Wv[:nz]
-    plus, minus = Wv[nz: nz + npos], Wv[nz + npos:]
-    Z[pos] = r2 * (plus + 1j * minus)
-    Z[neg] = r2 * (plus - 1j * minus)
+    Z[..., zero, :] = Wv[..., :nz, :]
+    plus, minus = Wv[..., nz: nz + npos, :], Wv[..., nz + npos:, :]
+    Z[..., pos, :] = r2 * (plus + 1j * minus)
+    Z[..., neg, :] = r2 * (plus - 1j * minus)
     return Z
 
 
 @lru_cache(maxsize=64)
-def _real_form_indices(m: int, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows of the first-order Hill vector [x; lambda x] (harmonic-major blocks of n) with
-    l = 0, l > 0, and the partner row (-l, same coordinate, same half) of each l > 0 row."""
+def _real_form_indices(m: int, n: int, halves: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows of a Hill vector (halves blocks of (2m+1)n, harmonic-major) with l = 0, l > 0,
+    and the partner row (-l, same coordinate, same half) of each l > 0 row."""
     N = (2 * m + 1) * n
-    rows = np.arange(2 * N)
+    rows = np.arange(halves * N)
     half, rem = np.divmod(rows, N)
     block, coord = np.divmod(rem, n)
     l = block - m
@@ -224,7 +186,26 @@ def _dense_eigs(op: HillOperator):
     first = np.nonzero(wi > 0)[0]  # a conjugate pair is stored as (re, im) in columns j, j+1
     vecs[:, first] = vr[:, first] + 1j * vr[:, first + 1]
     vecs[:, first + 1] = vr[:, first] - 1j * vr[:, first + 1]
-    return lam, _from_real_basis(vecs, op.m, op.n)[: op.pattern.size]
+    return lam, from_real_basis(vecs, op.m, op.n)[: op.pattern.size]
+
+
+def dense_exponents_batch(real_matrices: np.ndarray, omegas: np.ndarray, m: int,
+                          n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hill exponents at S speeds from their real first-order Hill matrices (S, 2N, 2N)
+    (N = (2m+1)n), all eigenpairs by LAPACK in one stacked call, clusters by the jitted
+    selection. Returns exponents (S, 2n) complex sorted by real then imaginary part, edge
+    fractions (S, 2n), and the number of clusters resolved per speed (S,) (< 2n: failed,
+    the missing entries are NaN)."""
+    lam, vecs = np.linalg.eig(real_matrices)
+    X = np.ascontiguousarray(from_real_basis(vecs, m, n)[:, : (2 * m + 1) * n])
+    S, count = omegas.shape[0], 2 * n
+    exps = np.full((S, count), np.nan + 0j)
+    cents, edge = np.full((S, count), np.nan), np.full((S, count), np.nan)
+    found = np.zeros(S, dtype=np.int64)
+    select_clusters_batch(np.ascontiguousarray(lam, dtype=complex), X, np.asarray(omegas, float), m, n, count,
+                          exps, cents, edge, found)
+    order = np.lexsort((exps.imag, exps.real), axis=-1)
+    return np.take_along_axis(exps, order, -1), np.take_along_axis(edge, order, -1), found
 
 
 def _sparse_eigs(op: HillOperator, k: int, sigma: complex):

@@ -1,9 +1,9 @@
 """Speed sweeps (and speed x parameter grids): serial, on local worker processes, or on Dask.
 
 Flow: the points of the grid (parameters..., omega) get flat indices and are split into
-chunks; each chunk is solved point by point with :class:`periodyn.analysis.SpeedSolver`
-(or :func:`periodyn.analysis.solve_point` for callable models)
-by a backend (in this process, a local process pool, or a Dask cluster); the parent
+chunks; each chunk's speeds at one grid point are solved together by
+:meth:`periodyn.analysis.SpeedSolver.solve_many` (point by point with
+:func:`periodyn.analysis.solve_point` for callable models) by a backend (in this process, a local process pool, or a Dask cluster); the parent
 collects finished chunks, checkpoints each into ``<out>.parts/`` (written atomically by
 rename) and at the end merges them into one result file (:mod:`periodyn.results`).
 
@@ -13,8 +13,9 @@ existing cluster only Numba is limited, so start its workers with those variable
 ``WORKER_THREAD_ENV``). The job (model and speeds) reaches each worker once: the model
 the parent built for the first grid point travels with its omega-polynomial spectra
 already computed, other grid points are built once per worker, never per speed.
-Every point is computed by the same function on the same inputs whatever the backend,
-so serial, parallel and distributed results are identical.
+Every point is computed by the same functions on the same inputs whatever the backend
+(stacked LAPACK calls give each matrix the result of a single call), so serial, parallel
+and distributed results agree.
 
 A point whose solver raises :class:`~periodyn.errors.ConvergenceError` is kept as a
 failed point (NaN, ``status = 1``, ``message``), never as a result.
@@ -43,7 +44,7 @@ import cloudpickle
 import numpy as np
 import xarray as xr
 
-from .analysis import SpeedSolver, solve_point
+from .analysis import SpeedBatch, SpeedSolver, solve_point
 from .errors import ConvergenceError, InputError
 from .hill import METHODS
 from .progress import Progress
@@ -164,18 +165,28 @@ class _Job:
         state["_solvers"] = {}  # speed solvers are rebuilt in each worker, never shipped
         return state
 
-    def point(self, grid_index: tuple[int, ...], omega: float):
-        """PointResult at one grid point and speed: an OmegaSplitModel goes through its
-        SpeedSolver (omega-polynomial blocks built once per model), a callable model
-        through solve_point."""
+    def batch(self, grid_index: tuple[int, ...], omegas: np.ndarray) -> SpeedBatch:
+        """Results at one grid point for the speeds omegas: an OmegaSplitModel goes through
+        its SpeedSolver (omega-polynomial blocks built once per model, chunks of speeds at
+        once), a callable model point by point through solve_point."""
         model = self.source.model_at(grid_index)
-        if not isinstance(model, OmegaSplitModel):
-            system = self.source.system(grid_index, omega)
-            return solve_point(system, self.harmonics, stability=self.stability, method=self.method)
-        solver = self._solvers.get(grid_index)
-        if solver is None:
-            solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, self.stability, self.method)
-        return solver.solve(omega)
+        if isinstance(model, OmegaSplitModel):
+            solver = self._solvers.get(grid_index)
+            if solver is None:
+                solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, self.stability, self.method)
+            return solver.solve_many(omegas)
+        points, messages = [], []
+        for w in omegas:
+            try:
+                points.append(solve_point(self.source.system(grid_index, w), self.harmonics,
+                                          stability=self.stability, method=self.method))
+                messages.append("")
+            except ConvergenceError as exc:
+                points.append(None)
+                messages.append(str(exc) or type(exc).__name__)
+            except InputError as exc:
+                raise InputError(f"at omega = {w:.6g} rad/s: {exc}") from None
+        return SpeedBatch.from_points(omegas, points, messages)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -200,30 +211,29 @@ class _Job:
         out = self.empty(len(indices))
         out["index"][:] = indices
         located = np.unravel_index(indices, self.shape)
-        for i in range(len(indices)):
-            grid_index = tuple(int(a[i]) for a in located[:-1])
-            w = float(self.omega[located[-1][i]])
+        grid = np.stack(located[:-1], axis=1) if len(located) > 1 else np.zeros((len(indices), 0), dtype=np.int64)
+        for key in np.unique(grid, axis=0):
+            rows = np.nonzero((grid == key).all(axis=1))[0]
+            grid_index = tuple(int(k) for k in key)
             try:
-                point = self.point(grid_index, w)
-            except ConvergenceError as exc:
-                out["message"][i] = str(exc) or type(exc).__name__
-                continue
+                batch = self.batch(grid_index, self.omega[located[-1][rows]])
             except InputError as exc:
-                where = _describe(self.source.parameters(grid_index))
-                raise InputError(f"at omega = {w:.6g} rad/s ({where}): {exc}") from None
-            if (point.output_harmonics.shape != out["harmonics"].shape[1:]
-                    or point.exponents.shape != (self.n_exponents,)):
-                raise InputError(f"at omega = {w:.6g} rad/s the model has other outputs or coordinates than at the "
-                                 "first point; every grid point must have the same outputs and coordinates")
-            out["amplitude"][i] = point.amplitude
-            out["mean"][i] = point.mean
-            out["harmonics"][i] = point.output_harmonics
-            out["residual"][i] = point.residual
-            out["max_real_exponent"][i] = point.max_real
-            out["exponents"][i] = point.exponents
-            out["multipliers"][i] = point.multipliers
-            out["stable"][i] = point.stable
-            out["status"][i] = STATUS_SOLVED
+                if not self.source.grid_names:
+                    raise
+                raise InputError(f"{exc} ({_describe(self.source.parameters(grid_index))})") from None
+            if (batch.output_harmonics.shape[1:] != out["harmonics"].shape[1:]
+                    or batch.exponents.shape[1:] != (self.n_exponents,)):
+                raise InputError(f"the model at {_describe(self.source.parameters(grid_index))} has "
+                                 "other outputs or coordinates than at the first point; every grid point must have "
+                                 "the same outputs and coordinates")
+            solved = batch.message == ""
+            for name, column in (("amplitude", batch.amplitude), ("mean", batch.mean),
+                                 ("harmonics", batch.output_harmonics), ("residual", batch.residual),
+                                 ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
+                                 ("multipliers", batch.multipliers), ("stable", batch.stable)):
+                out[name][rows[solved]] = column[solved]
+            out["status"][rows[solved]] = STATUS_SOLVED
+            out["message"][rows] = batch.message
         out["message"] = out["message"].astype(str)
         return out
 

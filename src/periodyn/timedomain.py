@@ -16,11 +16,12 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .errors import ConvergenceError
+from .kernels.floquet import magnus_product
 from .spectra import synthesize
 from .system import RheoLinear
 
 __all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "integrate", "gauss_angles",
-           "expm_batch", "magnus_transition", "magnus_steps"]
+           "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array"]
 
 RTOL, ATOL = 1e-11, 1e-13
 
@@ -90,37 +91,40 @@ def gauss_angles(steps: int, start: float = 0.0, stop: float = 2 * np.pi) -> np.
     return start + (stop - start) * frac
 
 
-def expm_batch(X: np.ndarray) -> np.ndarray:
-    """exp of a batch of matrices (k, d, d): scaling to norm <= 1/2, Taylor to degree 12
-    (truncation < 1e-16 relative), squaring."""
-    nrm = np.max(np.sum(np.abs(X), axis=1))
-    s = max(0, int(np.ceil(np.log2(max(nrm, 1e-300) / 0.5))))
-    X = X / 2.0**s
-    eye = np.eye(X.shape[1])
-    E = eye + X / 12.0
-    for k in range(11, 0, -1):
-        E = eye + (X @ E) / k
-    for _ in range(s):
-        E = E @ E
-    return E
+def magnus_terms(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -> tuple[np.ndarray, float]:
+    """Terms of the balanced first-order system matrix for the Magnus kernels.
+
+    mass (g, n, n), damping (g, n, n, Pc), stiffness (g, n, n, Pk) at g points, the last
+    axis holding the coefficients of powers of omega. Returns terms (max(Pc, Pk), g, 2n, 2n)
+    with ``A = sum_p omega^p terms[p]`` the matrix of y' = A y for y = (a q, q'), and the
+    balancing scale a = sqrt(max ||M^-1 K_0||_inf) (1/s), which brings the stiff blocks to
+    the same size (a similarity: the transition matrix of (q, q') is D^-1 Phi D,
+    D = diag(a I, I), with the same eigenvalues)."""
+    g, n = mass.shape[:2]
+    Pc, Pk = damping.shape[-1], stiffness.shape[-1]
+    MinvC = np.linalg.solve(mass, damping.reshape(g, n, n * Pc)).reshape(g, n, n, Pc)
+    MinvK = np.linalg.solve(mass, stiffness.reshape(g, n, n * Pk)).reshape(g, n, n, Pk)
+    top = float(np.abs(MinvK[..., 0]).sum(axis=2).max()) if g else 0.0
+    a = np.sqrt(top) if top > 0 else 1.0
+    terms = np.zeros((max(Pc, Pk), g, 2 * n, 2 * n))
+    terms[0, :, :n, n:] = a * np.eye(n)
+    terms[:Pk, :, n:, :n] = -np.moveaxis(MinvK, -1, 0) / a
+    terms[:Pc, :, n:, n:] = -np.moveaxis(MinvC, -1, 0)
+    return terms, a
 
 
 def magnus_transition(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, h: float) -> np.ndarray:
     """Transition matrix (2n, 2n) of y' = A(t) y, y = (q, q'), over equal steps h (s).
 
     mass/damping/stiffness: (2 steps, n, n) at the two Gauss points of each step (see
-    :func:`gauss_angles`)."""
+    :func:`gauss_angles`); the jitted 4th-order Magnus kernel on the balanced system."""
     n = mass.shape[1]
-    A = np.zeros((mass.shape[0], 2 * n, 2 * n))
-    A[:, :n, n:] = np.eye(n)
-    A[:, n:, :n] = -np.linalg.solve(mass, stiffness)
-    A[:, n:, n:] = -np.linalg.solve(mass, damping)
-    A1, A2 = A[0::2], A[1::2]
-    E = expm_batch(0.5 * h * (A1 + A2) + (np.sqrt(3) / 12) * h * h * (A2 @ A1 - A1 @ A2))
-    Phi = np.eye(2 * n)
-    for step in E:
-        Phi = step @ Phi
-    return Phi
+    terms, a = magnus_terms(mass, damping[..., None], stiffness[..., None])
+    phi = np.empty((2 * n, 2 * n))
+    magnus_product(terms[0], float(h), phi)
+    phi[:n, n:] /= a  # undo the balancing: Phi = D^-1 Phi_balanced D
+    phi[n:, :n] *= a
+    return phi
 
 
 def monodromy_exponents(system: RheoLinear, method: str = "monodromy", steps: int | None = None):
@@ -142,11 +146,18 @@ def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):
     """FloquetExponents from a monodromy matrix (2n, 2n) at driving speed omega (rad/s)."""
     from .hill import FloquetExponents
 
-    mu = np.linalg.eigvals(Phi)
-    lam = np.log(mu.astype(complex)) * omega / (2 * np.pi)
-    order = np.lexsort((lam.imag, lam.real))
+    lam = monodromy_exponent_array(Phi[None], np.array([float(omega)]))[0]
     nan = np.full(lam.size, np.nan)
-    return FloquetExponents(float(omega), lam[order], nan, nan, method)
+    return FloquetExponents(float(omega), lam, nan, nan, method)
+
+
+def monodromy_exponent_array(Phi: np.ndarray, omegas: np.ndarray) -> np.ndarray:
+    """Exponents (S, d) from monodromy matrices (S, d, d) at speeds omegas (S,) rad/s: the
+    principal logarithms of the multipliers (|Im| <= omega/2), sorted by real then
+    imaginary part."""
+    mu = np.linalg.eigvals(Phi)
+    lam = np.log(mu.astype(complex)) * (np.asarray(omegas, float)[:, None] / (2 * np.pi))
+    return np.take_along_axis(lam, np.lexsort((lam.imag, lam.real), axis=-1), -1)
 
 
 def integrate(system: RheoLinear, y0, t) -> np.ndarray:

@@ -49,3 +49,36 @@ def test_speed_solver_magnus_matches_dense_hill_on_the_slider_crank():
         assert_same_spectrum(a.multipliers, b.multipliers, atol=1e-6)
         assert a.stable == b.stable
         np.testing.assert_array_equal(a.output_harmonics, b.output_harmonics)
+
+
+@pytest.mark.parametrize("builder,m,method,speeds", [
+    (lambda: periodyn.examples.pendulum(samples=36), 8, "auto", np.linspace(0.3, 4.6, 23)),
+    (lambda: periodyn.examples.slider_crank(damping=0.01, samples=64), 12, "magnus", np.linspace(150, 300, 7)),
+    (lambda: parametric_chain(3, samples=64), 10, "sparse", np.array([11.0, 97.0])),
+])
+def test_solve_many_equals_speed_by_speed(builder, m, method, speeds):
+    """Stacked chunks (and the speed-by-speed paths they fall back to) give each speed the
+    result of solving it alone."""
+    model = builder()
+    solver = SpeedSolver(model, m, method=method)
+    batch = solver.solve_many(speeds)
+    assert len(batch) == speeds.size and (batch.message == "").all()
+    for i, w in enumerate(speeds):
+        one, direct = solver.solve(w), solve_point(model.at(w), m, method=method)
+        np.testing.assert_allclose(batch.output_harmonics[i], one.output_harmonics, rtol=0,
+                                   atol=1e-13 * np.abs(one.output_harmonics).max())
+        assert_same_spectrum(batch.multipliers[i], one.multipliers, atol=1e-12)
+        np.testing.assert_allclose(batch.amplitude[i], direct.amplitude, rtol=1e-9)
+        assert_same_spectrum(batch.multipliers[i], direct.multipliers, atol=1e-9)
+        assert batch.stable[i] == direct.stable
+        assert batch.residual[i] < 1e-12
+
+
+def test_solve_many_rejects_bad_speeds():
+    solver = SpeedSolver(periodyn.examples.pendulum(), 4)
+    with pytest.raises(periodyn.InputError, match="positive finite"):
+        solver.solve_many([1.0, float("nan")])
+    with pytest.raises(periodyn.InputError, match="1-D"):
+        solver.solve_many([[1.0, 2.0]])
+    with pytest.raises(periodyn.InputError, match="numbers"):
+        solver.solve_many(["fast"])

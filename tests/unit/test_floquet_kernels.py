@@ -1,0 +1,112 @@
+"""Floquet kernels (periodyn.kernels.floquet) against plain-NumPy/SciPy twins."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+import periodyn
+from periodyn.examples.chain import parametric_chain
+from periodyn.hb import hill_operator
+from periodyn.hill import _dense_eigs, select_representatives
+from periodyn.kernels.floquet import _expm, magnus_monodromies, magnus_product
+from periodyn.timedomain import gauss_angles, magnus_terms, magnus_transition
+
+RNG = np.random.default_rng(11)
+
+
+# ----------------------------------------------------------------------------- twins
+def select_twin(lam, X, omega, m, n, count):
+    """Cluster representatives as in select_clusters, with lstsq for the span test."""
+    energy = (np.abs(X) ** 2).reshape(2 * m + 1, n, -1).sum(axis=1)
+    total = energy.sum(axis=0)
+    c = (np.arange(-m, m + 1) @ energy) / total
+    chosen, raw, vecs = [], [], []
+    for i in np.argsort(np.abs(c), kind="mergesort"):
+        x = X[:, i].reshape(2 * m + 1, n) / np.linalg.norm(X[:, i])
+        same = []
+        for lj, vj in zip(raw, vecs):
+            d = lam[i] - lj
+            j = int(np.rint(d.imag / omega))
+            if abs(d - 1j * omega * j) <= (1e-7 if j else 1e-10) * (abs(lj) + omega):
+                shifted = np.zeros_like(vj)  # shifted[l] = vj[l + j]
+                lo, hi = max(0, -j), min(2 * m + 1, 2 * m + 1 - j)
+                if lo < hi:
+                    shifted[lo:hi] = vj[lo + j: hi + j]
+                same.append(shifted.reshape(-1))
+        if same:
+            U = np.stack(same, axis=1)
+            coef, *_ = np.linalg.lstsq(U, x.reshape(-1), rcond=None)
+            if np.linalg.norm(x.reshape(-1) - U @ coef) < 0.5:
+                continue
+        chosen.append(lam[i] + 1j * omega * np.rint(c[i]))
+        raw.append(lam[i])
+        vecs.append(x)
+        if len(chosen) == count:
+            break
+    return np.array(chosen)
+
+
+def magnus_twin(A, h):
+    """Magnus transition with scipy's expm per step."""
+    phi = np.eye(A.shape[1])
+    for A1, A2 in zip(A[0::2], A[1::2]):
+        phi = sla.expm(0.5 * h * (A1 + A2) + np.sqrt(3) / 12 * h * h * (A2 @ A1 - A1 @ A2)) @ phi
+    return phi
+
+
+# ----------------------------------------------------------------------------- tests
+@pytest.mark.parametrize("d,norm", [(2, 0.1), (5, 0.49), (8, 3.0), (8, 40.0)])
+def test_expm_matches_scipy(d, norm):
+    X = RNG.standard_normal((d, d))
+    X -= 0.6 * X.T  # mostly rotation, as the step generators of lightly damped systems
+    X *= norm / np.abs(X).sum(axis=0).max()
+    out, scratch = np.empty((d, d)), np.empty((6, d, d))
+    _expm(X, out, scratch)
+    ref = sla.expm(X)
+    np.testing.assert_allclose(out, ref, atol=5e-14 * np.abs(ref).max() * max(1.0, norm))
+
+
+def test_magnus_product_matches_twin_and_batch_matches_single():
+    model = periodyn.examples.slider_crank(damping=0.02, samples=64)
+    steps = 64
+    theta = gauss_angles(steps)
+    Mg, Cg, Kg = (periodyn.spectra.synthesize(X, theta) for X in model._power_spectra[:3])
+    terms, a = magnus_terms(Mg, Cg, Kg)
+    omegas = np.array([150.0, 230.0])
+    batch = np.empty((2, 8, 8))
+    magnus_monodromies(terms, omegas, batch)
+    for w, phi_batch in zip(omegas, batch):
+        A = terms[0] + w * terms[1] + w * w * terms[2]
+        h = 2 * np.pi / (w * steps)
+        single = np.empty((8, 8))
+        magnus_product(A, h, single)
+        np.testing.assert_array_equal(single, phi_batch)
+        np.testing.assert_allclose(single, magnus_twin(A, h), atol=1e-11 * np.abs(single).max())
+        # the unbalanced transition of (q, q') is similar to the balanced one
+        at = model.at(w)
+        S = at.spectra
+        unbalanced = magnus_transition(*(periodyn.spectra.synthesize(X, theta) for X in (S.mass, S.damping,
+                                                                                          S.stiffness)), h)
+        np.testing.assert_allclose(np.sort_complex(np.linalg.eigvals(unbalanced)),
+                                   np.sort_complex(np.linalg.eigvals(single)), atol=1e-10)
+        D = np.r_[np.full(4, a), np.ones(4)]
+        np.testing.assert_allclose(unbalanced, single * D[None, :] / D[:, None], atol=1e-9 * np.abs(unbalanced).max())
+
+
+@pytest.mark.parametrize("builder,m,speeds", [
+    (lambda: periodyn.examples.pendulum(samples=36), 8, (0.7, 2.3, 4.2, 4.4)),  # 4.2, 4.4: period doubling
+    (lambda: parametric_chain(3, samples=64), 10, (11.0, 40.0, 97.0)),
+])
+def test_cluster_selection_matches_twin(builder, m, speeds):
+    model = builder()
+    for w in speeds:
+        system = model.at(w)
+        op = hill_operator(system.spectra, w, m)
+        lam, X = _dense_eigs(op)
+        ref = select_twin(lam, X, w, m, system.n, 2 * system.n)
+        got = select_representatives(lam, X, w, m, system.n, 2 * system.n)[0]
+        assert got.size == ref.size == 2 * system.n
+        # equal up to the member of a period-doubling pair (centroids +-1/2, a tie) taken
+        np.testing.assert_allclose(np.sort(got.real), np.sort(ref.real), atol=1e-12 * (1 + np.abs(ref).max()))
+        T = 2 * np.pi / w
+        np.testing.assert_allclose(np.sort_complex(np.exp(got * T)), np.sort_complex(np.exp(ref * T)), atol=1e-10)
