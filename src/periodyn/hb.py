@@ -31,6 +31,7 @@ __all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS"]
 FORMS = ("direct", "inverse-mass")
 _BAND_RTOL = 1e-13  # coefficient harmonics below this fraction of the largest are dropped
 _TAIL_WARN = 1e-6  # spectral tail above which the coefficient sampling is called too coarse
+_NOISE = 1e-14  # coefficients below this fraction of the largest one are round-off
 
 
 class AliasingWarning(UserWarning):
@@ -51,11 +52,16 @@ def check_form(form: str) -> str:
 
 def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> None:
     """Refuse p < 2m+1 samples; warn (AliasingWarning) when the top quarter of any
-    coefficient spectrum is above 1e-6 of its largest harmonic."""
+    coefficient spectrum is above 1e-6 of its largest harmonic (coefficients at round-off
+    level, below 1e-14 of the largest entry of all spectra, are not checked)."""
     if p < 2 * m + 1:
         raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
                          f"(>= {4 * m + 1} to keep all coefficient couplings)")
-    tail = max(spectral_tail(X) for X in coefficient_spectra)
+    scale = max(float(np.abs(X).max(initial=0.0)) for X in coefficient_spectra)
+    # a coefficient that is round-off next to the others (e.g. the omega-term of an
+    # undamped model's damping) has no spectrum worth checking
+    tail = max((spectral_tail(X) for X in coefficient_spectra if np.abs(X).max(initial=0.0) > _NOISE * scale),
+               default=0.0)
     if tail > _TAIL_WARN:
         warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
                       "increase samples to avoid aliasing", AliasingWarning, stacklevel=4)

@@ -64,6 +64,20 @@ def test_unresolved_coefficients_warn_about_aliasing():
         periodyn.periodic_solution(sys, 3)
 
 
+def test_round_off_coefficients_do_not_warn():
+    """An undamped slider-crank's omega-term of the damping is round-off (~1e-18): its
+    'spectrum' is noise and must not raise an aliasing alarm."""
+    import warnings
+
+    from periodyn.analysis import SpeedSolver
+    from periodyn.examples.slider_crank import slider_crank_model
+    from periodyn.linearize import omega_split
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", periodyn.AliasingWarning)
+        SpeedSolver(omega_split(slider_crank_model(), 64), 12, stability=False).solve(200.0)
+
+
 def test_unknown_options():
     sys = periodyn.RheoLinear.from_samples(*ok(), 1.0)
     with pytest.raises(InputError, match="form"):
