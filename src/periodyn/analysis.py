@@ -18,9 +18,10 @@ import scipy.linalg as sla
 from .errors import ConvergenceError, InputError
 from .hb import (HillOperator, PeriodicSolution, _take, block_pattern, check_form, check_harmonics, check_sampling,
                  coefficient_band, half_range_and_mean, hill_operator, output_spectrum, periodic_solution,
-                 solve_balance, system_spectra)
+                 singular_balance, solve_balance, system_spectra)
 from .hill import (_DENSE_MAX, FloquetExponents, check_method, dense_exponents_batch, first_order_matrix,
                    from_real_basis, operator_exponents, real_form, to_real_basis)
+from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
 from .spectra import fourier_coefficients, synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
@@ -122,7 +123,8 @@ class SpeedBatch:
 
 
 _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
-_DENSE_BALANCE_MAX = 400  # HB size up to which speeds are solved as stacked real dense systems
+_DENSE_BALANCE_MAX = 400  # HB size up to which wide-band speeds are solved as stacked real dense systems
+_JIT_BANDED_MAX = 20_000  # N u^2 up to which the jitted banded LU beats a LAPACK call per speed
 
 
 class SpeedSolver:
@@ -176,10 +178,16 @@ class SpeedSolver:
         self.rhs = np.stack([_take(fs[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(fs.shape[-1])])
         K = (Ms.shape[0] - 1) // 2
         self.identity_mass = bool(np.array_equal(Ms[K], np.eye(n)) and not np.any(np.delete(Ms, K, axis=0)))
-        self.balance_terms = self.rhs_terms = None
-        if pat.size <= _DENSE_BALANCE_MAX:  # W(w) and f(w) in the real basis, per power of omega
-            self.balance_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in W])
-            self.rhs_terms = to_real_basis(self.rhs.T, m, n, halves=1).T
+        # HB per chunk of speeds: W(w) per power of omega in band storage (narrow, small
+        # bands: jitted banded LU) or, where the band couples (nearly) every harmonic pair
+        # so that band storage would hold >= 3/4 of the dense entries, real dense (stacked
+        # LAPACK); otherwise speed by speed (LAPACK banded or sparse LU)
+        self.band_terms = self.dense_terms = self.dense_rhs = None
+        if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX:
+            self.band_terms = np.stack([pat.banded(Wp) for Wp in W])
+        elif not pat.narrow and pat.size <= _DENSE_BALANCE_MAX:
+            self.dense_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in W])
+            self.dense_rhs = to_real_basis(self.rhs.T, m, n, halves=1).T
         self.real_terms = self.magnus = None
         if stability and self.method == "magnus":  # balanced system matrix at the Gauss angles, per power of omega
             steps = magnus_steps(model.samples)
@@ -214,8 +222,10 @@ class SpeedSolver:
         """Periodic solutions and stability at the speeds omegas (S,) rad/s, in chunks whose
         stacked matrices stay below a few million entries."""
         w = check_speeds(omegas)
-        size = 2 * self.pattern.size if self.real_terms is not None else self.pattern.size
-        chunk = int(np.clip(_BATCH_ELEMENTS // size**2, 1, 256))
+        N = self.pattern.size
+        per_speed = max(4 * N * N if self.real_terms is not None else 0, N * N if self.dense_terms is not None else 0,
+                        3 * N * self.pattern.half_bandwidth + N)
+        chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
         return SpeedBatch(w, self.model.output_names,
                           *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
@@ -224,23 +234,31 @@ class SpeedSolver:
     def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Harmonics (S, 2m+1, n) and relative HB residuals (S,) at speeds w (S,)."""
         m, n = self.m, self.model.n
-        if self.balance_terms is None:
+        if self.band_terms is None and self.dense_terms is None:
             solved = [solve_balance(self.operator(wi)) for wi in w]
             return np.stack([q for q, _ in solved]), np.array([r for _, r in solved])
-        pw = w[:, None] ** np.arange(len(self.balance_terms))
-        A = np.einsum("sp,pij->sij", pw, self.balance_terms)
-        b = pw[:, : len(self.rhs_terms)] @ self.rhs_terms
-        try:
-            y = np.linalg.solve(A, b[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            for wi in w:  # names the speed: an exactly singular HB matrix is an undamped resonance
-                solve_balance(self.operator(wi))
-            raise
-        residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+        pw = w[:, None] ** np.arange(len(self.W))
+        if self.band_terms is not None:
+            ab = np.einsum("sp,prc->src", pw, self.band_terms)
+            b = pw[:, : len(self.rhs)] @ self.rhs
+            x, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
+            banded_solve_batch(ab, b, x, residual, failed)
+            if failed.any():
+                raise singular_balance(w[failed > 0][0], f"zero pivot in column {failed[failed > 0][0] - 1}")
+            q = x.reshape(-1, 2 * m + 1, n)
+            q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
+        else:
+            A = np.einsum("sp,pij->sij", pw, self.dense_terms)
+            b = pw[:, : len(self.dense_rhs)] @ self.dense_rhs
+            try:
+                y = np.linalg.solve(A, b[..., None])[..., 0]
+            except np.linalg.LinAlgError:
+                singular = [i for i in range(w.size) if np.linalg.matrix_rank(A[i]) < A.shape[1]]
+                raise singular_balance(w[singular[0]] if singular else w[0], "LAPACK gesv") from None
+            residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+            q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
         scale = np.linalg.norm(b, axis=1)
-        residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
-        q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
-        return q, residual
+        return q, np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
 
     def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Exponents (S, 2n) (NaN where failed) and failure messages (S,) at speeds w."""

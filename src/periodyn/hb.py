@@ -344,6 +344,13 @@ def hill_operator(spectra: Spectra, omega: float, m: int) -> HillOperator:
                         identity_mass)
 
 
+def singular_balance(omega: float, detail: str) -> InputError:
+    """The error for an exactly singular HB matrix at omega (rad/s)."""
+    return InputError(f"the harmonic balance matrix is singular at omega = {omega:.6g} rad/s (an undamped "
+                      f"resonance: a characteristic exponent is a multiple of i*omega); add damping or move omega "
+                      f"({detail})")
+
+
 def solve_balance(op: HillOperator) -> tuple[np.ndarray, float]:
     """Solve W x = rhs: LAPACK banded LU for narrow bands, else sparse LU (no dense
     matrix either way). Returns harmonics (2m+1, n) and the relative residual."""
@@ -355,9 +362,7 @@ def solve_balance(op: HillOperator) -> tuple[np.ndarray, float]:
         else:
             x = spla.splu(op.W).solve(op.rhs)
     except (RuntimeError, np.linalg.LinAlgError) as exc:  # exactly singular: undamped resonance
-        raise InputError(f"the harmonic balance matrix is singular at omega = {op.omega:.6g} rad/s "
-                         f"(an undamped resonance: a characteristic exponent is a multiple of i*omega); "
-                         f"add damping or move omega ({exc})") from None
+        raise singular_balance(op.omega, str(exc)) from None
     scale = np.linalg.norm(op.rhs)
     residual = np.linalg.norm(pat.apply(W, x) - op.rhs)
     q = x.reshape(2 * op.m + 1, op.n)

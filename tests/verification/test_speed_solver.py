@@ -82,3 +82,24 @@ def test_solve_many_rejects_bad_speeds():
         solver.solve_many([[1.0, 2.0]])
     with pytest.raises(periodyn.InputError, match="numbers"):
         solver.solve_many(["fast"])
+
+
+def test_hb_storage_follows_the_coefficient_band():
+    """Narrow coefficient bands are never stored dense (band storage per speed); only a
+    band coupling (nearly) all harmonics is, for the stacked real solve."""
+    narrow = SpeedSolver(parametric_chain(3, samples=64), 10)
+    assert narrow.pattern.narrow and narrow.dense_terms is None and narrow.band_terms is not None
+    assert narrow.band_terms.shape[1:] == (2 * narrow.pattern.half_bandwidth + 1, narrow.pattern.size)
+    wide = SpeedSolver(periodyn.examples.slider_crank(damping=0.02, samples=64), 12, stability=False)
+    assert not wide.pattern.narrow and wide.dense_terms is not None
+
+
+def test_undamped_resonance_names_the_speed():
+    """q'' + q = cos(theta): the HB matrix is exactly singular where l omega = 1."""
+    p = 16
+    theta = 2 * np.pi * np.arange(p) / p
+    model = periodyn.OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [], [np.ones((p, 1, 1))],
+                                                  [np.cos(theta)[:, None]])
+    solver = SpeedSolver(model, 3, stability=False)
+    with pytest.raises(periodyn.InputError, match="singular at omega = 1 rad/s"):
+        solver.solve_many([0.3, 0.7, 1.0, 2.0])  # (l omega)^2 = 1 only at omega = 1 for |l| <= 3
