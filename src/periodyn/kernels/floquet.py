@@ -25,7 +25,7 @@ _MAGNUS_C = np.sqrt(3.0) / 12.0
 def _matmul(A, B, out):
     """out = A @ B for small square float64 matrices (out must not alias A or B).
 
-    Columns are taken 8 (then 4, then 1) at a time with scalar accumulators, which the
+    Columns are taken 8 at a time (then one by one) with scalar accumulators, which the
     compiler keeps in vector registers: about twice as fast as a plain triple loop at
     d = 8, the size that dominates Magnus sweeps."""
     d = A.shape[0]
@@ -52,20 +52,6 @@ def _matmul(A, B, out):
             out[i, j0 + 6] = s6
             out[i, j0 + 7] = s7
         j0 += 8
-    if j0 + 4 <= d:
-        for i in range(d):
-            s0 = s1 = s2 = s3 = 0.0
-            for k in range(d):
-                a = A[i, k]
-                s0 += a * B[k, j0]
-                s1 += a * B[k, j0 + 1]
-                s2 += a * B[k, j0 + 2]
-                s3 += a * B[k, j0 + 3]
-            out[i, j0] = s0
-            out[i, j0 + 1] = s1
-            out[i, j0 + 2] = s2
-            out[i, j0 + 3] = s3
-        j0 += 4
     for j in range(j0, d):
         for i in range(d):
             s = 0.0
