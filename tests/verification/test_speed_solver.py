@@ -103,3 +103,26 @@ def test_undamped_resonance_names_the_speed():
     solver = SpeedSolver(model, 3, stability=False)
     with pytest.raises(periodyn.InputError, match="singular at omega = 1 rad/s"):
         solver.solve_many([0.3, 0.7, 1.0, 2.0])  # (l omega)^2 = 1 only at omega = 1 for |l| <= 3
+
+
+def test_unresolved_clusters_are_reported_per_speed(monkeypatch):
+    """A speed whose Hill clusters cannot be resolved is a failed point with a message
+    (NaN exponents, not stable), never a result; its neighbours in the chunk are kept."""
+    import periodyn.hill as hill
+    from periodyn.errors import ConvergenceError
+
+    real_batch = hill.select_clusters_batch
+
+    def lose_one(lam, X, omegas, m, n, count, exps, cents, edge, found):
+        real_batch(lam, X, omegas, m, n, count, exps, cents, edge, found)
+        found[omegas == 2.0] = count - 1  # pretend omega = 2 resolved one cluster too few
+
+    monkeypatch.setattr(hill, "select_clusters_batch", lose_one)
+    solver = SpeedSolver(periodyn.examples.pendulum(samples=36), 6)
+    batch = solver.solve_many([1.0, 2.0, 3.0])
+    assert list(batch.message != "") == [False, True, False]
+    assert "resolved 1 of 2 exponent clusters" in batch.message[1] and "increase harmonics" in batch.message[1]
+    assert np.isnan(batch.exponents[1]).all() and np.isnan(batch.max_real[1]) and not batch.stable[1]
+    assert np.isfinite(batch.exponents[[0, 2]]).all()
+    with pytest.raises(ConvergenceError, match="exponent clusters"):
+        solver.solve(2.0)
