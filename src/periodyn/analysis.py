@@ -27,7 +27,7 @@ from .spectra import fourier_coefficients, synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
 from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents
 
-__all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver"]
+__all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -319,3 +319,15 @@ def check_speeds(omegas) -> np.ndarray:
     if bad.any():
         raise InputError(f"omega must be a positive finite driving speed in rad/s, got {w[bad][0]!r}")
     return w
+
+
+def warm_up() -> None:
+    """Load the compiled kernels of the speed solver (banded HB, Hill cluster selection,
+    Magnus monodromy, output extrema) by solving a one-coordinate model, so that worker
+    processes forked afterwards start with them (periodyn.sweep's fork server)."""
+    p = 8
+    theta = 2 * np.pi * np.arange(p) / p
+    model = OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [np.full((p, 1, 1), 0.1)],
+                                         [(1.0 + 0.2 * np.cos(theta))[:, None, None]], [np.cos(theta)[:, None]])
+    for method in ("dense", "magnus"):
+        SpeedSolver(model, 2, method=method).solve_many([0.7])

@@ -60,7 +60,7 @@ WORKER_THREAD_ENV = {
     "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
     "VECLIB_MAXIMUM_THREADS": "1", "NUMEXPR_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1",
 }
-_MAX_CHUNK = 128  # points per chunk: checkpoint granularity and load balance
+_MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
 _CHUNKS_PER_WORKER = 8
 
 
@@ -310,12 +310,13 @@ def _run_serial(job: _Job, chunks: list[np.ndarray], workers: int, scheduler) ->
 
 def _process_context():
     """Start method for local workers: "forkserver" where available (a server process
-    imports periodyn once, in the one-thread environment of its first start, and forks
-    the workers, so pools after the first start in milliseconds), else "spawn"."""
+    imports periodyn and loads the speed solver's compiled kernels once, in the
+    one-thread environment of its first start, and forks the workers, so pools after the
+    first start in milliseconds), else "spawn"."""
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload([__name__])
+    context.set_forkserver_preload([__name__, "periodyn._forkserver_preload"])
     return context
 
 

@@ -15,7 +15,7 @@ Paterson-Stockmeyer scheme (5 products).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 _TAYLOR = np.array([1.0 / np.prod(np.arange(1.0, k + 1.0)) for k in range(13)])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
@@ -155,7 +155,7 @@ def magnus_product(A, h, phi):
         phi[:, :] = current
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def magnus_monodromies(terms, omegas, out):
     """Monodromy matrices of y' = A(theta, omega) y, theta = omega t, at many speeds.
 
@@ -164,7 +164,7 @@ def magnus_monodromies(terms, omegas, out):
     out: (S, d, d), filled with the transition matrices over T = 2 pi / omega."""
     n_terms, n_points, d = terms.shape[0], terms.shape[1], terms.shape[2]
     steps = n_points // 2
-    for s in prange(omegas.shape[0]):
+    for s in range(omegas.shape[0]):  # parallelism is across speed chunks (sweep workers)
         w = omegas[s]
         A = terms[0].copy()
         power = 1.0
