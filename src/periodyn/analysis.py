@@ -178,25 +178,36 @@ class SpeedSolver:
         self.rhs = np.stack([_take(fs[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(fs.shape[-1])])
         K = (Ms.shape[0] - 1) // 2
         self.identity_mass = bool(np.array_equal(Ms[K], np.eye(n)) and not np.any(np.delete(Ms, K, axis=0)))
-        # HB per chunk of speeds: W(w) per power of omega in band storage (narrow, small
-        # bands: jitted banded LU) or, where the band couples (nearly) every harmonic pair
-        # so that band storage would hold >= 3/4 of the dense entries, real dense (stacked
-        # LAPACK); otherwise speed by speed (LAPACK banded or sparse LU)
+        self._balance_storage()
+        self._stability_terms()
+
+    def _balance_storage(self) -> None:
+        """HB per chunk of speeds: W(w) per power of omega in band storage (narrow, small
+        bands: jitted banded LU) or, where the band couples (nearly) every harmonic pair so
+        that band storage would hold >= 3/4 of the dense entries, real dense (stacked
+        LAPACK); neither: speed by speed (LAPACK banded or sparse LU)."""
+        pat, m, n = self.pattern, self.m, self.model.n
         self.band_terms = self.dense_terms = self.dense_rhs = None
         if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX:
-            self.band_terms = np.stack([pat.banded(Wp) for Wp in W])
+            self.band_terms = np.stack([pat.banded(Wp) for Wp in self.W])
         elif not pat.narrow and pat.size <= _DENSE_BALANCE_MAX:
-            self.dense_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in W])
+            self.dense_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in self.W])
             self.dense_rhs = to_real_basis(self.rhs.T, m, n, halves=1).T
+
+    def _stability_terms(self) -> None:
+        """Per power of omega: the balanced Magnus system matrix at the Gauss angles
+        (method "magnus") or the real first-order Hill matrix (dense Hill)."""
+        pat, m, n, model = self.pattern, self.m, self.model.n, self.model
         self.real_terms = self.magnus = None
-        if stability and self.method == "magnus":  # balanced system matrix at the Gauss angles, per power of omega
-            steps = magnus_steps(model.samples)
-            theta = gauss_angles(steps)
-            Mg, Cg, Kg = (synthesize(X, theta) for X in model._power_spectra[:3])
-            self.magnus = magnus_terms(Mg, Cg, Kg)[0]
-        if stability and (self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX)):
+        if not self.stability:
+            return
+        if self.method == "magnus":
+            theta = gauss_angles(magnus_steps(model.samples))
+            self.magnus = magnus_terms(*(synthesize(X, theta) for X in model._power_spectra[:3]))[0]
+        elif self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX):
             # A(w) = sum_p w^p A_p with A_p = [[0, I if p = 0], [-Mh^-1 W_p, -Mh^-1 V_p]] (V_p = 0 past its degree)
-            lu = None if self.identity_mass else sla.lu_factor(pat.dense(Md))
+            W, V = self.W, self.V
+            lu = None if self.identity_mass else sla.lu_factor(pat.dense(self.Md))
             V_padded = np.concatenate([V, np.zeros((len(W) - len(V),) + V.shape[1:], dtype=complex)])
             self.real_terms = np.stack([
                 real_form(first_order_matrix(pat.dense(Wp), pat.dense(Vp), lu, identity=(p == 0)), m, n)
