@@ -15,8 +15,9 @@ represents the exponent ``lambda + i w round(c)`` (the one whose eigenvector is 
 
 method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s (near 0),
 using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
-requested until 2n distinct clusters are found. method="dense": all eigenvalues
-(LAPACK). method="monodromy": direct integration over one period (periodyn.timedomain).
+requested until 2n distinct clusters are found. method="dense": all eigenvalues of the
+real form of A (LAPACK; for a chunk of speeds one stacked call, :func:`dense_exponents_batch`).
+method="monodromy": direct integration over one period (periodyn.timedomain).
 """
 
 from __future__ import annotations
