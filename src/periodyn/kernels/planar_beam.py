@@ -36,13 +36,7 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     modes and their derivatives w.r.t. xe (6,)."""
     n = 6
     l0 = par[0]
-    L1 = np.empty(n)
-    L2 = np.empty((n, n))
-    L3 = np.empty((n, n, n))
-    A1 = np.empty(n)
-    A2 = np.empty((n, n))
-    A3 = np.empty((n, n, n))
-    length, alpha = chord(xe, 0, 3, L1, L2, L3, A1, A2, A3)
+    length, alpha, L1, L2, L3, A1, A2, A3 = chord(xe, 0, 3)
     theta = np.empty(2)
     theta[0] = _wrap(xe[2] + par[1] - alpha)
     theta[1] = _wrap(xe[5] + par[2] - alpha)
@@ -165,13 +159,7 @@ def _rotary_inertia(xe, ve, ae, rotary, M, r, C, K):
     """Rotary inertia of the sections: interpolated quantities h = (alpha, phi_p, phi_q)
     with gradients Hg (3,6); only alpha has Hessian A2 and third derivative A3."""
     n = 6
-    L1 = np.empty(n)
-    L2 = np.empty((n, n))
-    L3 = np.empty((n, n, n))
-    A1 = np.empty(n)
-    A2 = np.empty((n, n))
-    A3 = np.empty((n, n, n))
-    chord(xe, 0, 3, L1, L2, L3, A1, A2, A3)
+    A1, A2, A3 = chord(xe, 0, 3)[5:]
     Hg = np.zeros((3, n))
     Hg[0] = A1
     Hg[1, 2] = 1.0

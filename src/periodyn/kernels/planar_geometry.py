@@ -12,13 +12,17 @@ from numba import njit
 
 
 @njit(cache=True)
-def chord(xe, ip, iq, L1, L2, L3, A1, A2, A3):
+def chord(xe, ip, iq):
     """Chord from local position coordinates ``xe[ip:ip+2]`` to ``xe[iq:iq+2]``.
 
-    Overwrites L1 (n,), L2 (n,n), L3 (n,n,n) with derivatives of the length (m) and
-    A1, A2, A3 with those of the angle (rad) w.r.t. the n local coordinates.
-    Returns (length, angle).
+    Returns (length, angle, L1, L2, L3, A1, A2, A3): length (m) and angle (rad), and
+    their first to third derivatives w.r.t. the n = len(xe) local coordinates, L1/A1
+    (n,), L2/A2 (n,n), L3/A3 (n,n,n).
     """
+    n = xe.shape[0]
+    L1, A1 = np.empty(n), np.empty(n)
+    L2, A2 = np.empty((n, n)), np.empty((n, n))
+    L3, A3 = np.empty((n, n, n)), np.empty((n, n, n))
     ux = xe[iq] - xe[ip]
     uy = xe[iq + 1] - xe[ip + 1]
     z = complex(ux, uy)
@@ -72,4 +76,4 @@ def chord(xe, ip, iq, L1, L2, L3, A1, A2, A3):
                 sijk = sij * sgn[k]
                 L3[idx[i], idx[j], idx[k]] += sijk * l3[a, b, c]
                 A3[idx[i], idx[j], idx[k]] += sijk * g3[a, b, c].imag
-    return length, np.arctan2(uy, ux)
+    return length, np.arctan2(uy, ux), L1, L2, L3, A1, A2, A3

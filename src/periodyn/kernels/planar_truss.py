@@ -6,7 +6,6 @@ Inertia: consistent mass of a uniform bar, position linearly interpolated,
 ``r(s) = (1-s) x_p + s x_q``; mass[i, j] = rhoA l0 int N_i N_j ds, weights[i] = rhoA l0 int N_i ds.
 """
 
-import numpy as np
 from numba import njit
 
 from .planar_geometry import chord
@@ -17,13 +16,7 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     """Overwrite D[0], Dx[0,:4], Dxx[0,:4,:4], Dxxx[0,:4,:4,:4] with the elongation and
     its derivatives w.r.t. xe (4,)."""
     n = 4
-    L1 = np.empty(n)
-    L2 = np.empty((n, n))
-    L3 = np.empty((n, n, n))
-    A1 = np.empty(n)
-    A2 = np.empty((n, n))
-    A3 = np.empty((n, n, n))
-    length, _ = chord(xe, 0, 2, L1, L2, L3, A1, A2, A3)
+    length, _, L1, L2, L3, _, _, _ = chord(xe, 0, 2)
     D[0] = length - par[0]
     Dx[0, :n] = L1
     Dxx[0, :n, :n] = L2
