@@ -318,17 +318,19 @@ class SpeedSolver:
 
 
 def check_speeds(omegas) -> np.ndarray:
-    """Driving speeds as a float array (S,), refusing non-positive or non-finite values."""
+    """Driving speeds as a float array (S,) (one speed or a non-empty 1-D array), refusing
+    non-positive or non-finite values with the offending entry named."""
     try:
-        w = np.asarray(omegas, dtype=float)
+        w = np.atleast_1d(np.asarray(omegas, dtype=float))
     except (TypeError, ValueError):
-        raise InputError(f"omega must be driving speeds in rad/s (numbers), got {omegas!r}") from None
-    if w.ndim > 1:
-        raise InputError(f"omega must be one speed or a 1-D array of speeds in rad/s, got shape {w.shape}")
-    w = np.atleast_1d(w)
+        raise InputError(f"omega must be driving speeds in rad/s (numbers), got {type(omegas).__name__}") from None
+    if w.ndim != 1 or w.size == 0:
+        raise InputError(f"omega must be one speed or a non-empty 1-D array of speeds in rad/s, got shape {w.shape}")
     bad = ~np.isfinite(w) | (w <= 0)
     if bad.any():
-        raise InputError(f"omega must be a positive finite driving speed in rad/s, got {w[bad][0]!r}")
+        i = int(np.argmax(bad))
+        raise InputError(f"every omega must be a positive finite speed in rad/s; omega[{i}] = {w[i]!r} "
+                         "(start a sweep just above zero, e.g. 1e-3)")
     return w
 
 

@@ -44,7 +44,7 @@ import cloudpickle
 import numpy as np
 import xarray as xr
 
-from .analysis import SpeedBatch, SpeedSolver, solve_point
+from .analysis import SpeedBatch, SpeedSolver, check_speeds, solve_point
 from .errors import ConvergenceError, InputError
 from .hill import METHODS
 from .progress import Progress
@@ -464,20 +464,6 @@ class _Collected:
         self.done[idx] = True
 
 
-def _check_omega(omega) -> np.ndarray:
-    try:
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
-    except (TypeError, ValueError):
-        raise InputError(f"omega must be an array of driving speeds in rad/s, got {type(omega).__name__}") from None
-    if w.ndim != 1 or w.size == 0:
-        raise InputError(f"omega must be a non-empty 1-D array of speeds in rad/s, got shape {w.shape}")
-    bad = ~np.isfinite(w) | (w <= 0)
-    if bad.any():
-        raise InputError(f"every omega must be a positive finite speed in rad/s; omega[{int(np.argmax(bad))}] = "
-                         f"{w[np.argmax(bad)]!r} (start a sweep just above zero, e.g. 1e-3)")
-    return w
-
-
 def _check_grid(model, parameters) -> tuple[tuple[str, ...], tuple[np.ndarray, ...]]:
     if not parameters:
         return (), ()
@@ -602,7 +588,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     Returns the dataset described in :mod:`periodyn.results` (also written to ``out``).
     """
     started = time.perf_counter()
-    w = _check_omega(omega)
+    w = check_speeds(omega)
     m = _check_int("harmonics", harmonics, 0)
     p = None if samples is None else _check_int("samples", samples, 1)
     if method not in METHODS:
