@@ -20,11 +20,11 @@ from periodyn.continuation import continuation, switch_period_doubling  # noqa: 
 from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
 from periodyn.examples.dae_examples import inverted_pendulum  # noqa: E402
 from periodyn.nonlinear import integrate, shooting  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     cfg = load_sweep("inverted_pendulum")
     s = inverted_pendulum(**cfg["model"]["parameters"])
     c = cfg["continuation"]
@@ -47,9 +47,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    p1 = out_dir / "fig_dae_inverted_pendulum_response.png"
-    fig.savefig(p1, dpi=120)
-    plt.close(fig)
+    p1 = save_figure(fig, out_dir / "fig_dae_inverted_pendulum_response.png")
 
     w = c["time_history_omega"]
     j = int(np.argmin(np.abs(b2.omega - w)))
@@ -59,9 +57,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 50))
     fig = time_history_figure(sol, th, [2], [0, 1], ["phi"], ["lambda_x", "lambda_y"],
                               f"period-doubled orbit at omega = {sol.omega:.3f} rad/s: IHB vs integration (shooting start)")
-    p2 = out_dir / "fig_dae_inverted_pendulum_time.png"
-    fig.savefig(p2, dpi=120)
-    plt.close(fig)
+    p2 = save_figure(fig, out_dir / "fig_dae_inverted_pendulum_time.png")
     return [p1, p2]
 
 

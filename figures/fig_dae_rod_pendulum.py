@@ -20,11 +20,11 @@ from periodyn.dae import ihb  # noqa: E402
 from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
 from periodyn.examples.dae_examples import rod_pendulum  # noqa: E402
 from periodyn.nonlinear import integrate, steady_state  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     cfg = load_sweep("rod_pendulum")
     s = rod_pendulum(**cfg["model"]["parameters"])
     c = cfg["continuation"]
@@ -43,9 +43,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    p1 = out_dir / "fig_dae_rod_pendulum_response.png"
-    fig.savefig(p1, dpi=120)
-    plt.close(fig)
+    p1 = save_figure(fig, out_dir / "fig_dae_rod_pendulum_response.png")
 
     w = c["time_history_omega"]
     q, qd, _, _ = steady_state(s, w, tol=1e-8, max_periods=3000)
@@ -54,9 +52,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     sol = ihb(s, w, H, initial=q)
     fig = time_history_figure(sol, th, [0, 1, 2], [0, 1], ["x", "y", "phi"], ["lambda_x", "lambda_y"],
                               f"rod pendulum, omega = {w} rad/s: IHB (H = {H}, residual {sol.residual:.1e}) vs integration")
-    p2 = out_dir / "fig_dae_rod_pendulum_time.png"
-    fig.savefig(p2, dpi=120)
-    plt.close(fig)
+    p2 = save_figure(fig, out_dir / "fig_dae_rod_pendulum_time.png")
     return [p1, p2]
 
 

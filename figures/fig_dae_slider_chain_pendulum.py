@@ -20,11 +20,11 @@ from periodyn.continuation import continuation  # noqa: E402
 from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
 from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
 from periodyn.nonlinear import integrate  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     cfg = load_sweep("slider_chain_pendulum")
     s = slider_chain_pendulum(**cfg["model"]["parameters"])
     c = cfg["continuation"]
@@ -41,9 +41,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.suptitle(f"slider-chain pendulum, {s.n} coordinates, {s.m} multipliers, p = {s.parameters['p']} N, "
                  f"H = {H}, max residual {br.residual.max():.1e}", fontsize=9)
     fig.tight_layout()
-    p1 = out_dir / "fig_dae_slider_chain_pendulum_response.png"
-    fig.savefig(p1, dpi=120)
-    plt.close(fig)
+    p1 = save_figure(fig, out_dir / "fig_dae_slider_chain_pendulum_response.png")
 
     w = c["time_history_omega"]
     sol = br.solutions[int(np.argmin(np.abs(br.omega - w)))]
@@ -53,9 +51,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig = time_history_figure(sol, th, [0, s.n - 3], [0, 1, s.m - 1], ["x1", "x41"],
                               ["lambda slider", "lambda joint 1 x", "lambda last joint y"],
                               f"slider-chain pendulum, omega = {sol.omega:.3f} rad/s: IHB vs integration over one period")
-    p2 = out_dir / "fig_dae_slider_chain_pendulum_time.png"
-    fig.savefig(p2, dpi=120)
-    plt.close(fig)
+    p2 = save_figure(fig, out_dir / "fig_dae_slider_chain_pendulum_time.png")
     return [p1, p2]
 
 

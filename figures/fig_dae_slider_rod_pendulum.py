@@ -19,11 +19,11 @@ from periodyn.continuation import continuation  # noqa: E402
 from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
 from periodyn.examples.dae_examples import slider_rod_pendulum  # noqa: E402
 from periodyn.nonlinear import integrate, shooting  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     cfg = load_sweep("slider_rod_pendulum")
     s = slider_rod_pendulum(**cfg["model"]["parameters"])
     c = cfg["continuation"]
@@ -39,9 +39,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         ax.grid(alpha=0.3)
     fig.suptitle(f"slider-rod pendulum, f = {s.parameters['f']} N, H = {H}", fontsize=9)
     fig.tight_layout()
-    p1 = out_dir / "fig_dae_slider_rod_pendulum_response.png"
-    fig.savefig(p1, dpi=120)
-    plt.close(fig)
+    p1 = save_figure(fig, out_dir / "fig_dae_slider_rod_pendulum_response.png")
 
     w = c["time_history_omega"]
     j = int(np.argmin(np.abs(br.omega - w)))
@@ -51,9 +49,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 40))
     fig = time_history_figure(sol, th, [0, 4], [0, 1, 2], ["x1", "phi2"], ["lambda_slider", "lambda_jx", "lambda_jy"],
                               f"slider-rod pendulum, omega = {sol.omega:.3f} rad/s: IHB vs integration")
-    p2 = out_dir / "fig_dae_slider_rod_pendulum_time.png"
-    fig.savefig(p2, dpi=120)
-    plt.close(fig)
+    p2 = save_figure(fig, out_dir / "fig_dae_slider_rod_pendulum_time.png")
     return [p1, p2]
 
 
