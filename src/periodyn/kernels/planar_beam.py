@@ -36,7 +36,7 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     modes and their derivatives w.r.t. xe (6,)."""
     n = 6
     l0 = par[0]
-    length, alpha, L1, L2, L3, A1, A2, A3 = chord(xe, 0, 3)
+    length, alpha, L1, L2, L3, A1, A2, A3 = chord(xe, 0, 3, n)
     theta = np.empty(2)
     theta[0] = _wrap(xe[2] + par[1] - alpha)
     theta[1] = _wrap(xe[5] + par[2] - alpha)
@@ -159,7 +159,7 @@ def _rotary_inertia(xe, ve, ae, rotary, M, r, C, K):
     """Rotary inertia of the sections: interpolated quantities h = (alpha, phi_p, phi_q)
     with gradients Hg (3,6); only alpha has Hessian A2 and third derivative A3."""
     n = 6
-    A1, A2, A3 = chord(xe, 0, 3)[5:]
+    A1, A2, A3 = chord(xe, 0, 3, n)[5:]
     Hg = np.zeros((3, n))
     Hg[0] = A1
     Hg[1, 2] = 1.0

@@ -12,14 +12,13 @@ from numba import njit
 
 
 @njit(cache=True)
-def chord(xe, ip, iq):
+def chord(xe, ip, iq, n):
     """Chord from local position coordinates ``xe[ip:ip+2]`` to ``xe[iq:iq+2]``.
 
     Returns (length, angle, L1, L2, L3, A1, A2, A3): length (m) and angle (rad), and
-    their first to third derivatives w.r.t. the n = len(xe) local coordinates, L1/A1
-    (n,), L2/A2 (n,n), L3/A3 (n,n,n).
+    their first to third derivatives w.r.t. the first n local coordinates (the element's;
+    xe may be longer), L1/A1 (n,), L2/A2 (n,n), L3/A3 (n,n,n).
     """
-    n = xe.shape[0]
     L1, A1 = np.empty(n), np.empty(n)
     L2, A2 = np.empty((n, n)), np.empty((n, n))
     L3, A3 = np.empty((n, n, n)), np.empty((n, n, n))

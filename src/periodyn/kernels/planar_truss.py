@@ -16,7 +16,7 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     """Overwrite D[0], Dx[0,:4], Dxx[0,:4,:4], Dxxx[0,:4,:4,:4] with the elongation and
     its derivatives w.r.t. xe (4,)."""
     n = 4
-    length, _, L1, L2, L3, _, _, _ = chord(xe, 0, 2)
+    length, _, L1, L2, L3, _, _, _ = chord(xe, 0, 2, n)
     D[0] = length - par[0]
     Dx[0, :n] = L1
     Dxx[0, :n, :n] = L2
