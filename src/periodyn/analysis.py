@@ -17,15 +17,15 @@ import scipy.linalg as sla
 
 from .errors import ConvergenceError, InputError
 from .floquet import is_stable
-from .hb import (HillOperator, PeriodicSolution, _take, block_pattern, check_form, check_harmonics, check_sampling,
-                 coefficient_band, half_range_and_mean, hill_operator, output_spectrum, periodic_solution,
-                 singular_balance, solve_balance, system_spectra)
-from .hill import (_DENSE_MAX, FloquetExponents, check_method, dense_exponents_batch, first_order_matrix,
-                   from_real_basis, operator_exponents, real_form, to_real_basis)
+from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
+from .harmonic.pattern import from_real_basis
+from .hb import (PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum, periodic_solution,
+                 singular_balance, solve_balance)
+from .hill import FloquetExponents, check_method, choose_method, dense_exponents_batch, operator_exponents
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
-from .spectra import fourier_coefficients, synthesize
-from .system import OmegaSplitModel, RheoLinear, Spectra
+from .spectra import synthesize
+from .system import OmegaSplitModel, RheoLinear
 from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
@@ -70,7 +70,7 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, meth
     :func:`periodyn.characteristic_exponents`) for one rheo-linear system."""
     m = check_harmonics(harmonics)
     method = check_method(method)
-    op = hill_operator(system_spectra(system, m, form), system.omega, m)
+    op = HarmonicOperator.for_system(system, m, form).at(system.omega)
     sol = periodic_solution(system, m, form=form, operator=op)
     if method in ("monodromy", "magnus") and stability:
         return _point(sol, monodromy_exponents(system, method), method, system.n)
@@ -143,84 +143,30 @@ class SpeedSolver:
     def __init__(self, model: OmegaSplitModel, harmonics: int, stability: bool = True, method: str = "auto",
                  form: str = "direct"):
         self.model = model
-        self.m = m = check_harmonics(harmonics)
+        self.m = check_harmonics(harmonics)
         self.stability = stability
         self.method = check_method(method)
-        self.form = check_form(form)
-        n = model.n
-        Ms, Cs, Ks, fs, Gs = model._power_spectra  # powers on the last axis
-        if form == "inverse-mass":
-            Minv = np.linalg.inv(model.mass)
-            Cs = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.damping, 0, -1)))
-            Ks = fourier_coefficients(np.einsum("pij,pjkq->pikq", Minv, np.moveaxis(model.stiffness, 0, -1)))
-            fs = fourier_coefficients(np.einsum("pij,pjq->piq", Minv, np.moveaxis(model.force, 0, -1)))
-            Ms = np.zeros_like(Ms)
-            Ms[(Ms.shape[0] - 1) // 2] = np.eye(n)
-        self.output_spectra = Gs
-        check_sampling(model.samples, m, Ms, Cs, Ks)
-        band = max(coefficient_band(Spectra(Ms, Cs[..., j], Ks[..., i], None, None), m)
-                   for j in range(Cs.shape[-1]) for i in range(Ks.shape[-1]))
-        self.pattern = pat = block_pattern(m, n, band)
-        d = pat.k_index - pat.l_index
-        l = pat.l_index[:, None, None].astype(float)
-        Md = _take(Ms, d)
-        degree = max(Ks.shape[-1] - 1, Cs.shape[-1], 2)
-        W = np.zeros((degree + 1,) + Md.shape, dtype=complex)
-        V = np.zeros((max(Cs.shape[-1] - 1, 1) + 1,) + Md.shape, dtype=complex)
-        for p in range(Ks.shape[-1]):
-            W[p] += _take(Ks[..., p], d)
-        for p in range(Cs.shape[-1]):
-            Cd = _take(Cs[..., p], d)
-            W[p + 1] += 1j * l * Cd
-            V[p] += Cd
-        W[2] -= l**2 * Md
-        V[1] += 2j * l * Md
-        self.W, self.V, self.Md = W, V, Md
-        self.rhs = np.stack([_take(fs[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(fs.shape[-1])])
-        K = (Ms.shape[0] - 1) // 2
-        self.identity_mass = bool(np.array_equal(Ms[K], np.eye(n)) and not np.any(np.delete(Ms, K, axis=0)))
-        self._balance_storage()
-        self._stability_terms()
-
-    def _balance_storage(self) -> None:
-        """HB per chunk of speeds: W(w) per power of omega in band storage (narrow, small
-        bands: jitted banded LU) or, where the band couples (nearly) every harmonic pair so
-        that band storage would hold >= 3/4 of the dense entries, real dense (stacked
-        LAPACK); neither: speed by speed (LAPACK banded or sparse LU)."""
-        pat, m, n = self.pattern, self.m, self.model.n
-        self.band_terms = self.dense_terms = self.dense_rhs = None
-        if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX:
-            self.band_terms = np.stack([pat.banded(Wp) for Wp in self.W])
-        elif not pat.narrow and pat.size <= _DENSE_BALANCE_MAX:
-            self.dense_terms = np.stack([real_form(pat.dense(Wp), m, n, halves=1) for Wp in self.W])
-            self.dense_rhs = to_real_basis(self.rhs.T, m, n, halves=1).T
-
-    def _stability_terms(self) -> None:
-        """Per power of omega: the balanced Magnus system matrix at the Gauss angles
-        (method "magnus") or the real first-order Hill matrix (dense Hill)."""
-        pat, m, n, model = self.pattern, self.m, self.model.n, self.model
-        self.real_terms = self.magnus = None
-        if not self.stability:
-            return
-        if self.method == "magnus":
+        self.form = form
+        self.harmonic = op = HarmonicOperator.for_model(model, self.m, form)
+        self.output_spectra = model._power_spectra[4]
+        self.pattern = pat = op.pattern
+        self.storage = balance_storage(pat)
+        # HB per chunk of speeds: jitted banded LU for narrow small bands; stacked real dense
+        # LAPACK for small systems whose band is wide; otherwise speed by speed
+        self.batch_balance = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX else
+                              "dense" if not pat.narrow and pat.size <= _DENSE_BALANCE_MAX else None)
+        self.magnus = None
+        self.stability_method = self.method
+        if self.method == "auto":
+            self.stability_method = choose_method(pat.size)[0]
+        if stability and self.method == "magnus":
             theta = gauss_angles(magnus_steps(model.samples))
             self.magnus = magnus_terms(*(synthesize(X, theta) for X in model._power_spectra[:3]))[0]
-        elif self.method == "dense" or (self.method == "auto" and 2 * pat.size <= _DENSE_MAX):
-            # A(w) = sum_p w^p A_p with A_p = [[0, I if p = 0], [-Mh^-1 W_p, -Mh^-1 V_p]] (V_p = 0 past its degree)
-            W, V = self.W, self.V
-            lu = None if self.identity_mass else sla.lu_factor(pat.dense(self.Md))
-            V_padded = np.concatenate([V, np.zeros((len(W) - len(V),) + V.shape[1:], dtype=complex)])
-            self.real_terms = np.stack([
-                real_form(first_order_matrix(pat.dense(Wp), pat.dense(Vp), lu, identity=(p == 0)), m, n)
-                for p, (Wp, Vp) in enumerate(zip(W, V_padded))])
+        self.dense_hill = stability and self.stability_method == "dense"
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
-        w = check_speeds(omega)[0]
-        pw = w ** np.arange(len(self.W))
-        real = None if self.real_terms is None else np.tensordot(pw, self.real_terms, 1)
-        return HillOperator(w, self.pattern, (np.tensordot(pw, self.W, 1), np.tensordot(pw[: len(self.V)], self.V, 1),
-                                              self.Md), pw[: len(self.rhs)] @ self.rhs, self.identity_mass, real)
+        return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.dense_hill)
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
@@ -235,7 +181,7 @@ class SpeedSolver:
         stacked matrices stay below a few million entries."""
         w = check_speeds(omegas)
         N = self.pattern.size
-        per_speed = max(4 * N * N if self.real_terms is not None else 0, N * N if self.dense_terms is not None else 0,
+        per_speed = max(4 * N * N if self.dense_hill else 0, N * N if self.batch_balance == "dense" else 0,
                         3 * N * self.pattern.half_bandwidth + N)
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
@@ -246,13 +192,11 @@ class SpeedSolver:
     def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Harmonics (S, 2m+1, n) and relative HB residuals (S,) at speeds w (S,)."""
         m, n = self.m, self.model.n
-        if self.band_terms is None and self.dense_terms is None:
-            solved = [solve_balance(self.operator(wi)) for wi in w]
+        if self.batch_balance is None:
+            solved = [solve_balance(self.harmonic.at(wi), self.storage) for wi in w]
             return np.stack([q for q, _ in solved]), np.array([r for _, r in solved])
-        pw = w[:, None] ** np.arange(len(self.W))
-        if self.band_terms is not None:
-            ab = np.einsum("sp,prc->src", pw, self.band_terms)
-            b = pw[:, : len(self.rhs)] @ self.rhs
+        if self.batch_balance == "banded":
+            ab, b = self.harmonic.banded_many(w)
             x, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
             banded_solve_batch(ab, b, x, residual, failed)
             if failed.any():
@@ -260,8 +204,7 @@ class SpeedSolver:
             q = x.reshape(-1, 2 * m + 1, n)
             q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
         else:
-            A = np.einsum("sp,pij->sij", pw, self.dense_terms)
-            b = pw[:, : len(self.dense_rhs)] @ self.dense_rhs
+            A, b = self.harmonic.real_balance_many(w)
             try:
                 y = np.linalg.solve(A, b[..., None])[..., 0]
             except np.linalg.LinAlgError:
@@ -270,7 +213,13 @@ class SpeedSolver:
             residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
         scale = np.linalg.norm(b, axis=1)
-        return q, np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
+        residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
+        if not np.isfinite(residual).all():
+            i = int(np.argmin(np.isfinite(residual)))
+            raise ConvergenceError(f"the harmonic balance solve at omega = {w[i]:.6g} rad/s gave a non-finite "
+                                   "solution; the HB matrix is numerically singular (add damping or move omega)",
+                                   residual=float(residual[i]), iterations=1)
+        return q, residual
 
     def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Exponents (S, 2n) (NaN where failed) and failure messages (S,) at speeds w."""
@@ -281,8 +230,8 @@ class SpeedSolver:
             Phi = np.empty((w.size, 2 * n, 2 * n))
             magnus_monodromies(self.magnus, w, Phi)
             return monodromy_exponent_array(Phi, w), message
-        if self.real_terms is not None:
-            R = np.einsum("sp,pij->sij", w[:, None] ** np.arange(len(self.real_terms)), self.real_terms)
+        if self.dense_hill:
+            R = self.harmonic.real_first_order_many(w)
             exps, _, found = dense_exponents_batch(R, w, m, n)
             for i in np.nonzero(found < 2 * n)[0]:
                 exps[i] = np.nan
@@ -294,7 +243,7 @@ class SpeedSolver:
                 if self.method == "monodromy":
                     exps[i] = monodromy_exponents(self.model.at(wi)).exponents
                 else:
-                    exps[i] = operator_exponents(self.operator(wi), self.method).exponents
+                    exps[i] = operator_exponents(self.harmonic.at(wi), self.stability_method).exponents
             except ConvergenceError as exc:
                 message[i] = str(exc) or type(exc).__name__
         return exps, message

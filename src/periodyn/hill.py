@@ -22,8 +22,6 @@ method="monodromy": direct integration over one period (periodyn.timedomain).
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
@@ -31,11 +29,13 @@ from threadpoolctl import threadpool_limits
 
 from .errors import ConvergenceError, InputError
 from .floquet import FloquetExponents
-from .hb import HillOperator, check_harmonics, hill_operator, system_spectra
+from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
+from .harmonic.pattern import from_real_basis
 from .kernels.floquet import select_clusters, select_clusters_batch
-from .system import RheoLinear, Spectra
+from .system import RheoLinear
+from .timedomain import monodromy_exponents
 
-__all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS"]
+__all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method"]
 
 METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
 _DENSE_MAX = 600  # first-order Hill size up to which "auto" uses LAPACK
@@ -61,80 +61,16 @@ def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int,
     return exps[:found], cents[:found], edge[:found]
 
 
-def real_form(A: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
-    """Unitary map of a Hill matrix of a real system to a real matrix.
-
-    A (halves N, halves N), N = (2m+1)n, harmonic-major blocks in each half (halves=2:
-    the first-order matrix on [x; lambda x], halves=1: the HB matrix), satisfies
-    A = J conj(A) J, J the reversal of harmonic index l -> -l; with Q = [e_0,
-    (e_l + e_-l)/sqrt2, i(e_l - e_-l)/sqrt2] (l > 0), Q^H A Q is real (LAPACK's real
-    solvers are then about three times faster than the complex ones)."""
-    zero, pos, neg = _real_form_indices(m, n, halves)
-    r2 = np.sqrt(0.5)
-    AQ = np.concatenate([A[:, zero], r2 * (A[:, pos] + A[:, neg]), 1j * r2 * (A[:, pos] - A[:, neg])], axis=1)
-    return to_real_basis(AQ, m, n, halves)
-
-
-def to_real_basis(v: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
-    """Q^H v along the first axis (see :func:`real_form`), real part; v (halves N, ...)."""
-    zero, pos, neg = _real_form_indices(m, n, halves)
-    r2 = np.sqrt(0.5)
-    return np.concatenate([v[zero], r2 * (v[pos] + v[neg]), -1j * r2 * (v[pos] - v[neg])], axis=0).real
-
-
-def from_real_basis(Wv: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:
-    """Q Wv along the second-to-last axis: real-basis vectors (..., halves N, k) back in
-    the harmonic basis, complex."""
-    zero, pos, neg = _real_form_indices(m, n, halves)
-    r2 = np.sqrt(0.5)
-    Z = np.empty(Wv.shape, dtype=complex)
-    nz, npos = zero.size, pos.size
-    Z[..., zero, :] = Wv[..., :nz, :]
-    plus, minus = Wv[..., nz: nz + npos, :], Wv[..., nz + npos:, :]
-    Z[..., pos, :] = r2 * (plus + 1j * minus)
-    Z[..., neg, :] = r2 * (plus - 1j * minus)
-    return Z
-
-
-@lru_cache(maxsize=64)
-def _real_form_indices(m: int, n: int, halves: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows of a Hill vector (halves blocks of (2m+1)n, harmonic-major) with l = 0, l > 0,
-    and the partner row (-l, same coordinate, same half) of each l > 0 row."""
-    N = (2 * m + 1) * n
-    rows = np.arange(halves * N)
-    half, rem = np.divmod(rows, N)
-    block, coord = np.divmod(rem, n)
-    l = block - m
-    pos = rows[l > 0]
-    partner = half[pos] * N + (m - l[pos]) * n + coord[pos]
-    return rows[l == 0], pos, partner
-
-
-def first_order_matrix(W: np.ndarray, V: np.ndarray, Mh_lu=None, identity: bool = True) -> np.ndarray:
-    """Dense first-order Hill matrix A = [[0, I], [-Mh^-1 W, -Mh^-1 V]] (2N, 2N) complex
-    (identity=False leaves out the I block, for the higher terms of a polynomial in omega)."""
-    N = W.shape[0]
-    if Mh_lu is not None:
-        W, V = sla.lu_solve(Mh_lu, W), sla.lu_solve(Mh_lu, V)
-    A = np.zeros((2 * N, 2 * N), dtype=complex)
-    if identity:
-        A[:N, N:] = np.eye(N)
-    A[N:, :N] = -W
-    A[N:, N:] = -V
-    return A
-
-
-def real_first_order_matrix(op: HillOperator) -> np.ndarray:
-    """The first-order Hill matrix of ``op`` in the real basis of :func:`_real_form`."""
-    if op.real_first_order is not None:
-        return op.real_first_order
-    lu = None if op.identity_mass else sla.lu_factor(op.dense(2))
-    return real_form(first_order_matrix(op.dense(0), op.dense(1), lu), op.m, op.n)
+def choose_method(size: int) -> tuple[str, str]:
+    """The Hill method "auto" takes for a block size N = (2m+1)n, with the reason."""
+    if 2 * size <= _DENSE_MAX:
+        return "dense", f"first-order size {2 * size} <= {_DENSE_MAX}: all eigenvalues by LAPACK"
+    return "sparse", f"first-order size {2 * size} > {_DENSE_MAX}: ARPACK shift-invert subset"
 
 
 def _dense_eigs(op: HillOperator):
     """All eigenpairs of the real first-order Hill matrix (LAPACK dgeev, no wrappers)."""
-    R = np.asfortranarray(real_first_order_matrix(op))
+    R = np.asfortranarray(op.real_first_order_matrix())
     wr, wi, _, vr, info = sla.lapack.dgeev(R, compute_vl=0, overwrite_a=1)
     if info != 0:
         raise ConvergenceError(f"LAPACK dgeev failed (info {info}) for the Hill matrix at omega = {op.omega:.6g} rad/s")
@@ -222,7 +158,7 @@ def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponen
     m, n, omega = op.m, op.n, op.omega
     N = op.pattern.size
     if method == "auto":
-        method = "dense" if 2 * N <= _DENSE_MAX else "sparse"
+        method = choose_method(N)[0]
     if method == "dense":
         lam, X = _dense_eigs(op)
         exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
@@ -237,6 +173,9 @@ def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponen
     if exps.size < 2 * n:
         raise ConvergenceError(f"Hill's method with m = {m} resolved {exps.size} of {2 * n} exponent clusters at "
                                f"omega = {omega:.6g} rad/s; increase harmonics")
+    if not np.isfinite(exps).all():
+        raise ConvergenceError(f"Hill's method ({method}) gave non-finite exponents at omega = {omega:.6g} rad/s; "
+                               "check that the mass matrix is well conditioned, or use method='monodromy'")
     order = np.lexsort((exps.imag, exps.real))
     return FloquetExponents(float(omega), exps[order], cents[order], edge[order], method)
 
@@ -252,8 +191,9 @@ def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
     if check_method(method) in ("monodromy", "magnus"):
         raise InputError(f"hill_exponents works on spectra; use characteristic_exponents(system, m, method={method!r})")
     n = mass.shape[1]
-    spectra = Spectra(mass, damping, stiffness, np.zeros((mass.shape[0], n)), np.zeros((1, 0, n)))
-    return operator_exponents(hill_operator(spectra, omega, m), method)
+    force = np.zeros((mass.shape[0], n, 1))
+    op = HarmonicOperator.from_power_spectra(mass, damping[..., None], stiffness[..., None], force, m)
+    return operator_exponents(op.at(omega), method)
 
 
 def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "auto", *,
@@ -268,8 +208,5 @@ def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "
     """
     method = check_method(method)
     if method in ("monodromy", "magnus"):
-        from .timedomain import monodromy_exponents
-
         return monodromy_exponents(system, method)
-    m = check_harmonics(harmonics)
-    return operator_exponents(hill_operator(system_spectra(system, m, form), system.omega, m), method)
+    return operator_exponents(HarmonicOperator.for_system(system, harmonics, form).at(system.omega), method)

@@ -6,7 +6,7 @@ import scipy.linalg as sla
 
 import periodyn
 from periodyn.examples.chain import parametric_chain
-from periodyn.hb import hill_operator
+from periodyn.harmonic import HarmonicOperator
 from periodyn.hill import _dense_eigs, select_representatives
 from periodyn.kernels.floquet import _expm, magnus_monodromies, magnus_product
 from periodyn.timedomain import gauss_angles, magnus_terms, magnus_transition
@@ -101,7 +101,7 @@ def test_cluster_selection_matches_twin(builder, m, speeds):
     model = builder()
     for w in speeds:
         system = model.at(w)
-        op = hill_operator(system.spectra, w, m)
+        op = HarmonicOperator.for_system(system, m).at(w)
         lam, X = _dense_eigs(op)
         ref = select_twin(lam, X, w, m, system.n, 2 * system.n)
         got = select_representatives(lam, X, w, m, system.n, 2 * system.n)[0]

@@ -88,10 +88,10 @@ def test_hb_storage_follows_the_coefficient_band():
     """Narrow coefficient bands are never stored dense (band storage per speed); only a
     band coupling (nearly) all harmonics is, for the stacked real solve."""
     narrow = SpeedSolver(parametric_chain(3, samples=64), 10)
-    assert narrow.pattern.narrow and narrow.dense_terms is None and narrow.band_terms is not None
-    assert narrow.band_terms.shape[1:] == (2 * narrow.pattern.half_bandwidth + 1, narrow.pattern.size)
+    assert narrow.pattern.narrow and narrow.batch_balance == "banded" and narrow.storage.kind == "banded"
+    assert narrow.harmonic.banded_terms.shape[1:] == (2 * narrow.pattern.half_bandwidth + 1, narrow.pattern.size)
     wide = SpeedSolver(periodyn.examples.slider_crank(damping=0.02, samples=64), 12, stability=False)
-    assert not wide.pattern.narrow and wide.dense_terms is not None
+    assert not wide.pattern.narrow and wide.batch_balance == "dense" and wide.storage.kind == "dense"
 
 
 def test_undamped_resonance_names_the_speed():
