@@ -19,7 +19,7 @@ from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
-from .hb import (PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum, periodic_solution,
+from .hb import (RESIDUAL_MAX, PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum, periodic_solution,
                  singular_balance, solve_balance)
 from .hill import FloquetExponents, check_method, choose_method, dense_exponents_batch, operator_exponents
 from .kernels.banded import banded_solve_batch

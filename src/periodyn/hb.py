@@ -134,6 +134,7 @@ def singular_balance(omega: float, detail: str) -> InputError:
                       f"({detail})")
 
 
+RESIDUAL_MAX = 1e-6  # relative HB residual above which an LU solve failed (backward-stable: ~1e-15)
 _WORK_BYTES = 4e8  # working memory allowed for one HB factorization (dense or band storage)
 
 
@@ -186,10 +187,11 @@ def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tu
     scale = np.linalg.norm(op.rhs)
     residual = float(np.linalg.norm(pat.apply(W, x) - op.rhs))
     residual = residual / scale if scale > 0 else residual
-    if not np.isfinite(residual):
+    if not residual <= RESIDUAL_MAX:  # also NaN
         raise ConvergenceError(f"the harmonic balance solve ({kind}) at omega = {op.omega:.6g} rad/s gave a "
-                               "non-finite solution; the HB matrix is numerically singular (add damping or move "
-                               "omega)", residual=residual, iterations=1)
+                               f"non-finite or inaccurate solution (relative residual {residual:.3g}); the HB matrix "
+                               "is numerically singular or overflows (add damping, move omega or rescale the model)",
+                               residual=residual, iterations=1)
     q = x.reshape(2 * m + 1, n)
     q = 0.5 * (q + np.conj(q[::-1]))  # enforce the conjugate symmetry of a real solution
     return q, residual
