@@ -13,15 +13,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
-from .hb import (RESIDUAL_MAX, PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum, periodic_solution,
-                 singular_balance, solve_balance)
-from .hill import FloquetExponents, check_method, choose_method, dense_exponents_batch, operator_exponents
+from .hb import (RESIDUAL_MAX, PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum,
+                 periodic_solution, singular_balance, solve_balance)
+from .hill import (FloquetExponents, check_method, choose_method, dense_exponents_batch, method_costs,
+                   operator_exponents)
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
 from .spectra import synthesize
@@ -156,17 +156,25 @@ class SpeedSolver:
         self.batch_balance = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX else
                               "dense" if not pat.narrow and pat.size <= _DENSE_BALANCE_MAX else None)
         self.magnus = None
-        self.stability_method = self.method
-        if self.method == "auto":
-            self.stability_method = choose_method(pat.size)[0]
         if stability and self.method == "magnus":
             theta = gauss_angles(magnus_steps(model.samples))
             self.magnus = magnus_terms(*(synthesize(X, theta) for X in model._power_spectra[:3]))[0]
-        self.dense_hill = stability and self.stability_method == "dense"
+        self.dense_hill = stability and self.method in ("dense", "auto")  # stacked dense Hill possible
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
-        return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.dense_hill)
+        return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.method == "dense")
+
+    def hill_methods(self, omegas) -> list[tuple[str, str]]:
+        """Stability method at each speed (rad/s) and why: "auto" chooses per speed by
+        estimated cost (:func:`periodyn.hill.choose_method`), as the per-speed path does."""
+        w = check_speeds(omegas)
+        if self.method != "auto":
+            return [(self.method, "requested")] * w.size
+        dense, per_shift = method_costs(self.pattern)
+        if dense <= per_shift:  # no speed dependence: even one ARPACK shift costs more
+            return [choose_method(self.harmonic.at(w[0]))] * w.size
+        return [choose_method(self.harmonic.at(wi)) for wi in w]
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
@@ -214,10 +222,12 @@ class SpeedSolver:
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
         scale = np.linalg.norm(b, axis=1)
         residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
-        if not np.isfinite(residual).all():
-            i = int(np.argmin(np.isfinite(residual)))
-            raise ConvergenceError(f"the harmonic balance solve at omega = {w[i]:.6g} rad/s gave a non-finite "
-                                   "solution; the HB matrix is numerically singular (add damping or move omega)",
+        failed = ~(residual <= RESIDUAL_MAX)  # also NaN
+        if failed.any():
+            i = int(np.argmax(failed))
+            raise ConvergenceError(f"the harmonic balance solve at omega = {w[i]:.6g} rad/s gave a non-finite or "
+                                   f"inaccurate solution (relative residual {residual[i]:.3g}); the HB matrix is "
+                                   "numerically singular or overflows (add damping, move omega or rescale the model)",
                                    residual=float(residual[i]), iterations=1)
         return q, residual
 
@@ -230,20 +240,20 @@ class SpeedSolver:
             Phi = np.empty((w.size, 2 * n, 2 * n))
             magnus_monodromies(self.magnus, w, Phi)
             return monodromy_exponent_array(Phi, w), message
-        if self.dense_hill:
-            R = self.harmonic.real_first_order_many(w)
-            exps, _, found = dense_exponents_batch(R, w, m, n)
-            for i in np.nonzero(found < 2 * n)[0]:
+        methods = np.array([name for name, _ in self.hill_methods(w)])
+        dense = np.nonzero(methods == "dense")[0]
+        if dense.size:
+            exps[dense], _, found = dense_exponents_batch(self.harmonic.real_first_order_many(w[dense]), w[dense], m, n)
+            for i in dense[found < 2 * n]:
                 exps[i] = np.nan
-                message[i] = (f"Hill's method with m = {m} resolved {found[i]} of {2 * n} exponent clusters at "
-                              f"omega = {w[i]:.6g} rad/s; increase harmonics")
-            return exps, message
-        for i, wi in enumerate(w):
+                message[i] = (f"Hill's method with m = {m} resolved {found[dense == i][0]} of {2 * n} exponent "
+                              f"clusters at omega = {w[i]:.6g} rad/s; increase harmonics")
+        for i in np.nonzero(methods != "dense")[0]:
             try:
-                if self.method == "monodromy":
-                    exps[i] = monodromy_exponents(self.model.at(wi)).exponents
+                if methods[i] == "monodromy":
+                    exps[i] = monodromy_exponents(self.model.at(w[i])).exponents
                 else:
-                    exps[i] = operator_exponents(self.harmonic.at(wi), self.stability_method).exponents
+                    exps[i] = operator_exponents(self.harmonic.at(w[i]), methods[i]).exponents
             except ConvergenceError as exc:
                 message[i] = str(exc) or type(exc).__name__
         return exps, message

@@ -46,7 +46,7 @@ class FloquetExponents:
     multipliers = exp(lambda period). centroid: (2n,) harmonic-energy centroid of the
     chosen Hill eigenvectors; edge: (2n,) fraction of their energy in the outermost
     harmonics |l| = m, the truncation indicator (raise m when it is not small); both NaN
-    without Hill. method: how they were computed.
+    without Hill. method: how they were computed; reason: why (when chosen by "auto").
     """
 
     omega: float
@@ -55,6 +55,7 @@ class FloquetExponents:
     edge: np.ndarray
     method: str
     subharmonic: int = 1
+    reason: str = ""
 
     @classmethod
     def from_multipliers(cls, multipliers, omega: float, method: str, subharmonic: int = 1) -> FloquetExponents:

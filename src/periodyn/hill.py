@@ -30,15 +30,15 @@ from threadpoolctl import threadpool_limits
 from .errors import ConvergenceError, InputError
 from .floquet import FloquetExponents
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
-from .harmonic.pattern import from_real_basis
+from .harmonic.pattern import BlockPattern, from_real_basis
 from .kernels.floquet import select_clusters, select_clusters_batch
 from .system import RheoLinear
 from .timedomain import monodromy_exponents
 
-__all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method"]
+__all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method",
+           "method_costs"]
 
 METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
-_DENSE_MAX = 600  # first-order Hill size up to which "auto" uses LAPACK
 
 
 def check_method(method: str) -> str:
@@ -61,11 +61,38 @@ def select_representatives(lam: np.ndarray, X: np.ndarray, omega: float, m: int,
     return exps[:found], cents[:found], edge[:found]
 
 
-def choose_method(size: int) -> tuple[str, str]:
-    """The Hill method "auto" takes for a block size N = (2m+1)n, with the reason."""
-    if 2 * size <= _DENSE_MAX:
-        return "dense", f"first-order size {2 * size} <= {_DENSE_MAX}: all eigenvalues by LAPACK"
-    return "sparse", f"first-order size {2 * size} > {_DENSE_MAX}: ARPACK shift-invert subset"
+# Cost model of the two Hill methods, seconds on one core (fitted on the parametric chain
+# and the slider-crank, m = 4..30): dense, real dgeev of size D = 2N plus the cluster
+# selection; sparse, per ARPACK shift one LU of the band and the Arnoldi work on ncv vectors.
+_DENSE_COST = (1.0e-9, 1.0e-4)  # s per D^3, s per call
+_SHIFT_COST = (6.0e-10, 5.0e-3)  # s per flop-like unit, s per shift (ARPACK set-up)
+
+
+def _arpack_k(N: int, n: int) -> int:
+    """Eigenvalues first requested from ARPACK per shift."""
+    return min(2 * N - 2, 2 * n + max(2 * n, 12))
+
+
+def method_costs(pattern: BlockPattern) -> tuple[float, float]:
+    """Estimated seconds of dense Hill and of one sparse (ARPACK) shift on ``pattern``."""
+    N, u = pattern.size, pattern.half_bandwidth
+    ncv = 2 * _arpack_k(N, pattern.n) + 1
+    return (_DENSE_COST[0] * (2 * N) ** 3 + _DENSE_COST[1],
+            _SHIFT_COST[1] + _SHIFT_COST[0] * (N * u * u + 8 * N * ncv * ncv + 10 * ncv * N * u))
+
+
+def choose_method(op: HillOperator) -> tuple[str, str]:
+    """The Hill method "auto" takes at this operator, and why: the cheaper by estimated
+    cost of dense (all eigenvalues, ~D^3 for D = 2N) and sparse (one shift-invert ARPACK
+    run per shift; the shifts cover the mean system's frequencies in steps of m omega / 2,
+    so a stiff system with few harmonics needs many)."""
+    dense, per_shift = method_costs(op.pattern)
+    size = f"size {2 * op.pattern.size}, band {op.pattern.half_bandwidth}"
+    if dense <= per_shift:
+        return "dense", f"estimated dense {dense:.2g} s <= one ARPACK shift {per_shift:.2g} s ({size})"
+    shifts = _shift_frequencies(op).size
+    method = "dense" if dense <= shifts * per_shift else "sparse"
+    return method, f"estimated dense {dense:.2g} s vs sparse {shifts * per_shift:.2g} s ({shifts} shifts, {size})"
 
 
 def _dense_eigs(op: HillOperator):
@@ -157,13 +184,14 @@ def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponen
     ARPACK does not converge."""
     m, n, omega = op.m, op.n, op.omega
     N = op.pattern.size
+    reason = ""
     if method == "auto":
-        method = choose_method(N)[0]
+        method, reason = choose_method(op)
     if method == "dense":
         lam, X = _dense_eigs(op)
         exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
     else:
-        k = min(2 * N - 2, 2 * n + max(2 * n, 12))
+        k = _arpack_k(N, n)
         while True:
             lam, X = _sparse_candidates(op, k)
             exps, cents, edge = select_representatives(lam, X, omega, m, n, 2 * n)
@@ -177,7 +205,7 @@ def operator_exponents(op: HillOperator, method: str = "auto") -> FloquetExponen
         raise ConvergenceError(f"Hill's method ({method}) gave non-finite exponents at omega = {omega:.6g} rad/s; "
                                "check that the mass matrix is well conditioned, or use method='monodromy'")
     order = np.lexsort((exps.imag, exps.real))
-    return FloquetExponents(float(omega), exps[order], cents[order], edge[order], method)
+    return FloquetExponents(float(omega), exps[order], cents[order], edge[order], method, reason=reason)
 
 
 def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, omega: float,
@@ -185,7 +213,8 @@ def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
     """Exponents of ``M(t) y'' + C(t) y' + K(t) y = 0`` from coefficient spectra.
 
     mass, damping, stiffness: two-sided spectra (2K+1, n, n); omega: rad/s; harmonics: m.
-    method: "auto" (dense up to a first-order size of 600, else sparse), "sparse", "dense".
+    method: "auto" (the cheaper of the two by estimated cost, :func:`choose_method`),
+    "sparse", "dense".
     """
     m = check_harmonics(harmonics)
     if check_method(method) in ("monodromy", "magnus"):

@@ -120,8 +120,22 @@ def first_order_matrix(W: np.ndarray, V: np.ndarray, Mh_lu=None, identity: bool 
     return A
 
 
+class _OnPattern:
+    """Harmonic count m and coordinate count n of an operator on a block pattern."""
+
+    pattern: BlockPattern
+
+    @property
+    def m(self) -> int:
+        return self.pattern.m
+
+    @property
+    def n(self) -> int:
+        return self.pattern.n
+
+
 @dataclass(frozen=True, eq=False)
-class HillOperator:
+class HillOperator(_OnPattern):
     """The Hill/HB operator at one speed omega (rad/s).
 
     Blocks on ``pattern`` (each (nb, n, n) complex): W (the HB matrix of eq. 18), V and
@@ -137,14 +151,6 @@ class HillOperator:
     rhs: np.ndarray
     identity_mass: bool
     real_first_order: np.ndarray | None = None
-
-    @property
-    def m(self) -> int:
-        return self.pattern.m
-
-    @property
-    def n(self) -> int:
-        return self.pattern.n
 
     @cached_property
     def W(self) -> sp.csc_matrix:
@@ -171,7 +177,7 @@ class HillOperator:
 
 
 @dataclass(frozen=True, eq=False)
-class HarmonicOperator:
+class HarmonicOperator(_OnPattern):
     """Hill/HB blocks of a system with coefficients polynomial in omega, on ``pattern``.
 
     W: (PW, nb, n, n), V: (PV, nb, n, n) complex, the coefficients of w^p of the blocks
@@ -186,14 +192,6 @@ class HarmonicOperator:
     Mh: np.ndarray
     rhs: np.ndarray
     identity_mass: bool
-
-    @property
-    def m(self) -> int:
-        return self.pattern.m
-
-    @property
-    def n(self) -> int:
-        return self.pattern.n
 
     @classmethod
     def from_power_spectra(cls, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, force: np.ndarray,
