@@ -239,7 +239,12 @@ class SpeedSolver:
         if self.magnus is not None:
             Phi = np.empty((w.size, 2 * n, 2 * n))
             magnus_monodromies(self.magnus, w, Phi)
-            return monodromy_exponent_array(Phi, w), message
+            finite = np.isfinite(Phi).all(axis=(1, 2))
+            exps[finite] = monodromy_exponent_array(Phi[finite], w[finite])
+            for i in np.nonzero(~finite)[0]:
+                message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is not finite; use "
+                              "method='monodromy' (adaptive steps) or check the model's coefficients")
+            return exps, message
         methods = np.array([name for name, _ in self.hill_methods(w)])
         dense = np.nonzero(methods == "dense")[0]
         if dense.size:

@@ -17,7 +17,10 @@ method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s
 using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
 requested until 2n distinct clusters are found. method="dense": all eigenvalues of the
 real form of A (LAPACK; for a chunk of speeds one stacked call, :func:`dense_exponents_batch`).
-method="monodromy": direct integration over one period (periodyn.timedomain).
+method="auto": the cheaper of the two by estimated cost (:func:`choose_method`; the choice
+and its reason are kept on the result). method="monodromy": direct integration over one
+period (periodyn.timedomain). The blocks W, V, Mh come from
+:class:`periodyn.harmonic.HarmonicOperator`.
 """
 
 from __future__ import annotations
@@ -231,7 +234,8 @@ def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "
 
     method: "sparse" (ARPACK shift-invert subset), "dense" (all Hill eigenvalues),
     "monodromy" (adaptive integration over one period, the reference), "magnus"
-    (fixed-step 4th-order Magnus monodromy, fast for small stiff systems), "auto";
+    (fixed-step 4th-order Magnus monodromy, fast for small stiff systems), "auto" (dense
+    or sparse Hill, whichever is estimated cheaper; see ``.method`` and ``.reason``);
     ``harmonics`` is unused by the two monodromy methods.
     form: "direct" (Hill on M, C, K) or "inverse-mass" (the paper's eq. 26-27 on P, Q).
     """

@@ -145,6 +145,9 @@ def monodromy_exponents(system: RheoLinear, method: str = "monodromy", steps: in
 
 def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):
     """FloquetExponents from a monodromy matrix (2n, 2n) at driving speed omega (rad/s)."""
+    if not np.isfinite(Phi).all():
+        raise ConvergenceError(f"the monodromy matrix ({method}) at omega = {omega:.6g} rad/s is not finite; "
+                               "use method='monodromy' (adaptive steps) or check the model's coefficients")
     lam = monodromy_exponent_array(Phi[None], np.array([float(omega)]))[0]
     nan = np.full(lam.size, np.nan)
     return FloquetExponents(float(omega), lam, nan, nan, method)

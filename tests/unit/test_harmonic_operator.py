@@ -126,3 +126,12 @@ def test_non_finite_balance_solution_raises():
     for kind in ("dense", "banded", "sparse"):
         with pytest.raises(ConvergenceError, match="non-finite or inaccurate solution"):
             solve_balance(op, BalanceStorage(kind, "test"))
+
+
+def test_non_finite_monodromy_raises():
+    from periodyn.timedomain import exponents_from_monodromy
+
+    Phi = np.eye(2)
+    Phi[0, 1] = np.inf
+    with pytest.raises(ConvergenceError, match="monodromy matrix .* is not finite"):
+        exponents_from_monodromy(Phi, 1.0, "magnus")
