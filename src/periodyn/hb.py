@@ -15,6 +15,7 @@ estimates cheapest.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
@@ -154,7 +155,11 @@ def balance_storage(pattern: BlockPattern) -> BalanceStorage:
     multiply-add is ~4 real ones, and the band LU does ~N u^2 / 2 of them; measured: the
     two break even near u = 0.4 N). Sparse LU only when neither fits in memory (the
     pattern's blocks are full, so SuperLU gains no sparsity over the band)."""
-    N, u = pattern.size, pattern.half_bandwidth
+    return _storage(pattern.size, pattern.half_bandwidth)
+
+
+@lru_cache(maxsize=256)
+def _storage(N: int, u: int) -> BalanceStorage:
     dense, banded = N**3 / 3.0, 2.0 * N * u**2
     dense_bytes, band_bytes = 48.0 * N**2, 16.0 * N * (3 * u + 1)
     sizes = f"N = {N}, u = {u}: dense N^3/3 = {dense:.3g}, banded 2 N u^2 = {banded:.3g}"

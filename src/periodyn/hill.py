@@ -25,6 +25,8 @@ period (periodyn.timedomain). The blocks W, V, Mh come from
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
@@ -78,10 +80,16 @@ def _arpack_k(N: int, n: int) -> int:
 
 def method_costs(pattern: BlockPattern) -> tuple[float, float]:
     """Estimated seconds of dense Hill and of one sparse (ARPACK) shift on ``pattern``."""
-    N, u = pattern.size, pattern.half_bandwidth
-    ncv = 2 * _arpack_k(N, pattern.n) + 1
-    return (_DENSE_COST[0] * (2 * N) ** 3 + _DENSE_COST[1],
-            _SHIFT_COST[1] + _SHIFT_COST[0] * (N * u * u + 8 * N * ncv * ncv + 10 * ncv * N * u))
+    return _costs(pattern.size, pattern.half_bandwidth, pattern.n)[:2]
+
+
+@lru_cache(maxsize=256)
+def _costs(N: int, u: int, n: int) -> tuple[float, float, str]:
+    """method_costs and the reason for dense when it is cheaper than one shift."""
+    ncv = 2 * _arpack_k(N, n) + 1
+    dense = _DENSE_COST[0] * (2 * N) ** 3 + _DENSE_COST[1]
+    per_shift = _SHIFT_COST[1] + _SHIFT_COST[0] * (N * u * u + 8 * N * ncv * ncv + 10 * ncv * N * u)
+    return dense, per_shift, f"estimated dense {dense:.2g} s <= one ARPACK shift {per_shift:.2g} s (size {2 * N}, band {u})"
 
 
 def choose_method(op: HillOperator) -> tuple[str, str]:
@@ -89,10 +97,10 @@ def choose_method(op: HillOperator) -> tuple[str, str]:
     cost of dense (all eigenvalues, ~D^3 for D = 2N) and sparse (one shift-invert ARPACK
     run per shift; the shifts cover the mean system's frequencies in steps of m omega / 2,
     so a stiff system with few harmonics needs many)."""
-    dense, per_shift = method_costs(op.pattern)
-    size = f"size {2 * op.pattern.size}, band {op.pattern.half_bandwidth}"
+    dense, per_shift, cheap = _costs(op.pattern.size, op.pattern.half_bandwidth, op.n)
     if dense <= per_shift:
-        return "dense", f"estimated dense {dense:.2g} s <= one ARPACK shift {per_shift:.2g} s ({size})"
+        return "dense", cheap
+    size = f"size {2 * op.pattern.size}, band {op.pattern.half_bandwidth}"
     shifts = _shift_frequencies(op).size
     method = "dense" if dense <= shifts * per_shift else "sparse"
     return method, f"estimated dense {dense:.2g} s vs sparse {shifts * per_shift:.2g} s ({shifts} shifts, {size})"

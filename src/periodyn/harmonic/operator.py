@@ -28,7 +28,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..spectra import fourier_coefficients, spectral_tail
+from ..spectra import fourier_coefficients
 from ..system import OmegaSplitModel, RheoLinear
 from .pattern import BlockPattern, block_pattern, real_form, to_real_basis
 
@@ -67,16 +67,33 @@ def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> None:
     if p < 2 * m + 1:
         raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
                          f"(>= {4 * m + 1} to keep all coefficient couplings)")
-    scale = max(float(np.abs(X).max(initial=0.0)) for X in coefficient_spectra)
-    tail = max((spectral_tail(X) for X in coefficient_spectra if np.abs(X).max(initial=0.0) > _NOISE * scale),
-               default=0.0)
+    mags = [_harmonic_magnitudes(X) for X in coefficient_spectra]
+    scale = max(float(mag.max(initial=0.0)) for mag in mags)
+    tail = max((_tail(mag) for mag in mags if mag.max(initial=0.0) > _NOISE * scale), default=0.0)
     if tail > _TAIL_WARN:
         warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
                       "increase samples to avoid aliasing", AliasingWarning, stacklevel=5)
 
 
+def _harmonic_magnitudes(X: np.ndarray) -> np.ndarray:
+    """Largest |entry| of each harmonic of a spectrum (2K+1, ...), (2K+1,)."""
+    return np.abs(X).reshape(X.shape[0], -1).max(axis=1)
+
+
+def _tail(mag: np.ndarray) -> float:
+    """:func:`periodyn.spectra.spectral_tail` from the harmonic magnitudes (2K+1,)."""
+    K = (mag.shape[0] - 1) // 2
+    scale = mag.max()
+    if K == 0 or scale == 0.0:
+        return 0.0
+    width = max(1, (K + 3) // 4)
+    return float(max(mag[:width].max(), mag[-width:].max()) / scale)
+
+
 def _check_finite(**spectra: np.ndarray) -> None:
     for name, X in spectra.items():
+        if np.isfinite(X.sum()):  # one reduction; a NaN or inf entry makes the sum non-finite
+            continue
         bad = ~np.isfinite(X)
         if bad.any():
             k = int(np.argwhere(bad)[0][0]) - (X.shape[0] - 1) // 2
@@ -90,7 +107,7 @@ def coefficient_band(m: int, *spectra: np.ndarray) -> int:
     band = 0
     for X in spectra:
         K = (X.shape[0] - 1) // 2
-        mag = np.abs(X).reshape(X.shape[0], -1).max(axis=1)
+        mag = _harmonic_magnitudes(X)
         big = np.nonzero(mag > BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
         if big.size:
             band = max(band, int(np.abs(big - K).max()))
@@ -176,6 +193,14 @@ class HillOperator(_OnPattern):
         return real_form(first_order_matrix(self.dense(0), self.dense(1), lu), self.m, self.n)
 
 
+def _horner(terms: np.ndarray, w: float) -> np.ndarray:
+    """sum_p w^p terms[p] (Horner's scheme) for terms (P, ...)."""
+    out = terms[-1]
+    for term in terms[-2::-1]:
+        out = out * w + term
+    return out
+
+
 @dataclass(frozen=True, eq=False)
 class HarmonicOperator(_OnPattern):
     """Hill/HB blocks of a system with coefficients polynomial in omega, on ``pattern``.
@@ -219,7 +244,7 @@ class HarmonicOperator(_OnPattern):
         V[1] += 2j * l * Md
         rhs = np.stack([_take(force[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(force.shape[-1])])
         K = (mass.shape[0] - 1) // 2
-        identity = bool(np.array_equal(mass[K], np.eye(n)) and not np.any(np.delete(mass, K, axis=0)))
+        identity = bool(np.count_nonzero(mass) == n and np.array_equal(mass[K], np.eye(n)))
         return cls(pat, W, V, Md, rhs, identity)
 
     @classmethod
@@ -256,10 +281,9 @@ class HarmonicOperator(_OnPattern):
         """The operator at speed omega (rad/s); real_first_order: evaluate the real
         first-order Hill matrix from its precomputed terms (for repeated dense Hill)."""
         w = float(omega)
-        pw = self._powers(w, len(self.W))
-        real = np.tensordot(pw, self.real_first_order_terms, 1) if real_first_order else None
-        return HillOperator(w, self.pattern, (np.tensordot(pw, self.W, 1), np.tensordot(pw[: len(self.V)], self.V, 1),
-                                              self.Mh), pw[: len(self.rhs)] @ self.rhs, self.identity_mass, real)
+        real = _horner(self.real_first_order_terms, w) if real_first_order else None
+        return HillOperator(w, self.pattern, (_horner(self.W, w), _horner(self.V, w), self.Mh), _horner(self.rhs, w),
+                            self.identity_mass, real)
 
     def at_many(self, omegas) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Blocks W, V (S, nb, n, n) and force harmonics (S, (2m+1)n) at speeds (S,)."""
