@@ -118,6 +118,8 @@ def _take(X: np.ndarray, d: np.ndarray) -> np.ndarray:
     """Coefficients X_d for offsets d (zero outside the stored range), (len(d), ...)."""
     K = (X.shape[0] - 1) // 2
     inside = np.abs(d) <= K
+    if inside.all():
+        return X[d + K].astype(complex, copy=False)
     out = np.zeros((d.size,) + X.shape[1:], dtype=complex)
     out[inside] = X[d[inside] + K]
     return out
