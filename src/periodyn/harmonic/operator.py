@@ -91,9 +91,9 @@ def _tail(mag: np.ndarray) -> float:
 
 
 def _check_finite(**spectra: np.ndarray) -> None:
+    if np.isfinite(sum(X.sum() for X in spectra.values())):  # a NaN or inf entry makes the sum non-finite
+        return
     for name, X in spectra.items():
-        if np.isfinite(X.sum()):  # one reduction; a NaN or inf entry makes the sum non-finite
-            continue
         bad = ~np.isfinite(X)
         if bad.any():
             k = int(np.argwhere(bad)[0][0]) - (X.shape[0] - 1) // 2
@@ -230,22 +230,21 @@ class HarmonicOperator(_OnPattern):
         slices = [mass] + [damping[..., p] for p in range(damping.shape[-1])] + \
                  [stiffness[..., p] for p in range(stiffness.shape[-1])]
         pat = block_pattern(m, n, coefficient_band(m, *slices))
-        d = pat.k_index - pat.l_index
+        K = (mass.shape[0] - 1) // 2
+        d = pat.k_index - pat.l_index + K  # |k - l| <= band <= K: every offset is stored
         l = pat.l_index[:, None, None].astype(float)
-        Md = _take(mass, d)
+        Md, Cd, Kd = mass[d], damping[d], stiffness[d]
         Pc, Pk = damping.shape[-1], stiffness.shape[-1]
         W = np.zeros((max(Pk - 1, Pc, 2) + 1,) + Md.shape, dtype=complex)
         V = np.zeros((max(Pc - 1, 1) + 1,) + Md.shape, dtype=complex)
         for p in range(Pk):
-            W[p] += _take(stiffness[..., p], d)
+            W[p] += Kd[..., p]
         for p in range(Pc):
-            Cd = _take(damping[..., p], d)
-            W[p + 1] += 1j * l * Cd
-            V[p] += Cd
+            W[p + 1] += 1j * l * Cd[..., p]
+            V[p] += Cd[..., p]
         W[2] -= l**2 * Md
         V[1] += 2j * l * Md
         rhs = np.stack([_take(force[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(force.shape[-1])])
-        K = (mass.shape[0] - 1) // 2
         identity = bool(np.count_nonzero(mass) == n and np.array_equal(mass[K], np.eye(n)))
         return cls(pat, W, V, Md, rhs, identity)
 
