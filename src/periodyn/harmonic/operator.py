@@ -60,10 +60,11 @@ def check_form(form: str) -> str:
     return form
 
 
-def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> None:
+def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> list[np.ndarray]:
     """Refuse p < 2m+1 samples; warn (AliasingWarning) when the top quarter of any
     coefficient spectrum is above 1e-6 of its largest harmonic (coefficients at round-off
-    level, below 1e-14 of the largest entry of all spectra, are not checked)."""
+    level, below 1e-14 of the largest entry of all spectra, are not checked). Returns the
+    harmonic magnitudes of each spectrum (for :func:`coefficient_band`)."""
     if p < 2 * m + 1:
         raise InputError(f"{p} samples per period cannot resolve {m} harmonics; use samples >= {2 * m + 1} "
                          f"(>= {4 * m + 1} to keep all coefficient couplings)")
@@ -73,6 +74,7 @@ def check_sampling(p: int, m: int, *coefficient_spectra: np.ndarray) -> None:
     if tail > _TAIL_WARN:
         warnings.warn(f"coefficient spectra are not resolved by {p} samples (spectral tail {tail:.1e}); "
                       "increase samples to avoid aliasing", AliasingWarning, stacklevel=5)
+    return mags
 
 
 def _harmonic_magnitudes(X: np.ndarray) -> np.ndarray:
@@ -101,13 +103,12 @@ def _check_finite(**spectra: np.ndarray) -> None:
                              "check the model or the samples it was built from")
 
 
-def coefficient_band(m: int, *spectra: np.ndarray) -> int:
+def coefficient_band(m: int, *spectra: np.ndarray, magnitudes: list[np.ndarray] | None = None) -> int:
     """Highest coefficient harmonic (<= 2m) above BAND_RTOL of its own spectrum's largest
-    harmonic, over spectra (2K+1, ...)."""
+    harmonic, over spectra (2K+1, ...) or their harmonic magnitudes (2K+1,) when given."""
     band = 0
-    for X in spectra:
-        K = (X.shape[0] - 1) // 2
-        mag = _harmonic_magnitudes(X)
+    for mag in magnitudes if magnitudes is not None else map(_harmonic_magnitudes, spectra):
+        K = (mag.shape[0] - 1) // 2
         big = np.nonzero(mag > BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
         if big.size:
             band = max(band, int(np.abs(big - K).max()))
@@ -222,14 +223,16 @@ class HarmonicOperator(_OnPattern):
 
     @classmethod
     def from_power_spectra(cls, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, force: np.ndarray,
-                           m: int) -> HarmonicOperator:
+                           m: int, band: int | None = None) -> HarmonicOperator:
         """From spectra (2K+1, ...) with the powers of omega on the last axis: mass
-        (2K+1, n, n), damping/stiffness (2K+1, n, n, P), force (2K+1, n, P)."""
+        (2K+1, n, n), damping/stiffness (2K+1, n, n, P), force (2K+1, n, P); band: the
+        coefficient band when already known (default: :func:`coefficient_band` per power)."""
         _check_finite(mass=mass, damping=damping, stiffness=stiffness, force=force)
         n = mass.shape[1]
-        slices = [mass] + [damping[..., p] for p in range(damping.shape[-1])] + \
-                 [stiffness[..., p] for p in range(stiffness.shape[-1])]
-        pat = block_pattern(m, n, coefficient_band(m, *slices))
+        if band is None:
+            band = coefficient_band(m, mass, *(damping[..., p] for p in range(damping.shape[-1])),
+                                    *(stiffness[..., p] for p in range(stiffness.shape[-1])))
+        pat = block_pattern(m, n, band)
         K = (mass.shape[0] - 1) // 2
         d = pat.k_index - pat.l_index + K  # |k - l| <= band <= K: every offset is stored
         l = pat.l_index[:, None, None].astype(float)
@@ -257,8 +260,9 @@ class HarmonicOperator(_OnPattern):
             raise InputError(f"expected a periodyn.RheoLinear system, got {type(system).__name__}; "
                              "build one with RheoLinear.from_functions/from_samples or model.at(omega)")
         S = system.spectra if check_form(form) == "direct" else system.inverse_mass_spectra
-        check_sampling(system.samples, m, S.mass, S.damping, S.stiffness)
-        return cls.from_power_spectra(S.mass, S.damping[..., None], S.stiffness[..., None], S.force[..., None], m)
+        band = coefficient_band(m, magnitudes=check_sampling(system.samples, m, S.mass, S.damping, S.stiffness))
+        return cls.from_power_spectra(S.mass, S.damping[..., None], S.stiffness[..., None], S.force[..., None], m,
+                                      band)
 
     @classmethod
     def for_model(cls, model: OmegaSplitModel, harmonics: int, form: str = "direct") -> HarmonicOperator:
