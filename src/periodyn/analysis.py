@@ -16,13 +16,13 @@ import numpy as np
 import scipy.linalg as sla
 
 from .errors import ConvergenceError, InputError
-from .hb import (HillOperator, PeriodicSolution, _take, block_pattern, check_form, check_harmonics, check_sampling,
-                 coefficient_band, half_range_and_mean, hill_operator, output_spectrum, periodic_solution,
-                 singular_balance, solve_balance, system_spectra)
+from .hb import (HillOperator, _take, block_pattern, check_form, check_harmonics, check_sampling, coefficient_band,
+                 hill_operator, periodic_solution, singular_balance, solve_balance, system_spectra)
 from .hill import (_DENSE_MAX, FloquetExponents, check_method, dense_exponents_batch, first_order_matrix,
                    from_real_basis, operator_exponents, real_form, to_real_basis)
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
+from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import fourier_coefficients, synthesize
 from .system import OmegaSplitModel, RheoLinear, Spectra
 from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents
