@@ -16,6 +16,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .errors import ConvergenceError, InputError
+from .floquet import is_stable
 from .hb import (HillOperator, _take, block_pattern, check_form, check_harmonics, check_sampling, coefficient_band,
                  hill_operator, periodic_solution, singular_balance, solve_balance, system_spectra)
 from .hill import (_DENSE_MAX, FloquetExponents, check_method, dense_exponents_batch, first_order_matrix,
@@ -309,7 +310,7 @@ class SpeedSolver:
             exps, message = self._stability(w)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
-            stable = max_real < 0.0  # False where NaN (failed)
+            stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
         else:
             exps = multipliers = np.full((S, 2 * self.model.n), np.nan + 0j)
             max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)

@@ -22,7 +22,6 @@ method="monodromy": direct integration over one period (periodyn.timedomain).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -31,6 +30,7 @@ import scipy.sparse.linalg as spla
 from threadpoolctl import threadpool_limits
 
 from .errors import ConvergenceError, InputError
+from .floquet import FloquetExponents
 from .hb import HillOperator, check_harmonics, hill_operator, system_spectra
 from .kernels.floquet import select_clusters, select_clusters_batch
 from .system import RheoLinear, Spectra
@@ -39,50 +39,6 @@ __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "ME
 
 METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
 _DENSE_MAX = 600  # first-order Hill size up to which "auto" uses LAPACK
-
-
-@dataclass(frozen=True, eq=False)
-class FloquetExponents:
-    """Characteristic exponents of a periodic linear system of 2n first-order equations.
-
-    omega: rad/s. exponents: (2n,) complex, rad/s — for Hill's method the eigenvector-
-    centred representative (imaginary part is the physical vibration frequency), for the
-    monodromy method the principal value with |Im| <= omega/2. multipliers = exp(lambda T).
-    centroid: (2n,) harmonic-energy centroid of the chosen Hill eigenvectors; edge: (2n,)
-    fraction of their energy in the outermost harmonics |l| = m, the truncation error
-    indicator (raise m when it is not small); both NaN for monodromy. method: how computed.
-    """
-
-    omega: float
-    exponents: np.ndarray
-    centroid: np.ndarray
-    edge: np.ndarray
-    method: str
-
-    @property
-    def period(self) -> float:
-        return 2 * np.pi / self.omega
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        """Characteristic multipliers exp(lambda T), (2n,) complex."""
-        return np.exp(self.exponents * self.period)
-
-    @property
-    def principal(self) -> np.ndarray:
-        """Exponents shifted by multiples of i omega into |Im| <= omega/2, (2n,)."""
-        shift = np.round(self.exponents.imag / self.omega)
-        return self.exponents - 1j * self.omega * shift
-
-    @property
-    def max_real(self) -> float:
-        """Largest real part of the exponents (1/s); negative means asymptotically stable."""
-        return float(self.exponents.real.max())
-
-    @property
-    def stable(self) -> bool:
-        """True when every exponent has a negative real part."""
-        return self.max_real < 0.0
 
 
 def check_method(method: str) -> str:

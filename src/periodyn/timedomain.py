@@ -16,6 +16,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .errors import ConvergenceError
+from .floquet import FloquetExponents
 from .kernels.floquet import magnus_product
 from .spectra import synthesize
 from .system import RheoLinear
@@ -144,8 +145,6 @@ def monodromy_exponents(system: RheoLinear, method: str = "monodromy", steps: in
 
 def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):
     """FloquetExponents from a monodromy matrix (2n, 2n) at driving speed omega (rad/s)."""
-    from .hill import FloquetExponents
-
     lam = monodromy_exponent_array(Phi[None], np.array([float(omega)]))[0]
     nan = np.full(lam.size, np.nan)
     return FloquetExponents(float(omega), lam, nan, nan, method)
