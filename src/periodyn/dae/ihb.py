@@ -23,6 +23,8 @@ not band-limited: raise ``samples`` and check convergence in H.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -197,8 +199,9 @@ class IHBProblem:
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
     def exponents(self, X, omega, params=None, method="magnus"):
-        """Floquet exponents of the orbit X (FloquetExponents over the orbit period)."""
-        return orbit_exponents(self.linearization(X, omega, params), method)
+        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu)."""
+        exps = orbit_exponents(self.linearization(X, omega, params), method)
+        return replace(exps, omega=float(omega), subharmonic=self.nu)
 
     def solution(self, X, omega, params, residual, iterations, stability=None) -> PeriodicSolution:
         """The PeriodicSolution of unknowns X (the real layout ends here: two-sided harmonics)."""

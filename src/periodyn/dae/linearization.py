@@ -25,10 +25,11 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError, InputError
+from ..floquet import FloquetExponents
 from ..hill import hill_exponents
 from ..spectra import fourier_coefficients, to_samples
 from ..system import RheoLinear
-from ..timedomain import exponents_from_monodromy, monodromy_exponents
+from ..timedomain import monodromy_exponents
 
 __all__ = ["OrbitLinearization", "linearize_orbit", "orbit_exponents", "STABILITY_METHODS"]
 
@@ -122,7 +123,7 @@ def orbit_exponents(lin: OrbitLinearization, method: str = "magnus", harmonics: 
     if method not in STABILITY_METHODS:
         raise InputError(f"stability method must be one of {STABILITY_METHODS}, got {method!r}")
     if lin.r == 0:
-        return exponents_from_monodromy(np.zeros((0, 0)), rheo.omega, method)
+        return FloquetExponents.from_multipliers(np.zeros(0), rheo.omega, method)
     if method == "magnus":
         return monodromy_exponents(rheo, "magnus", steps=max(128, 4 * rheo.samples))
     if method == "monodromy":

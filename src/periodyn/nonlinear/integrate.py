@@ -20,6 +20,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import ConvergenceError, InputError
+from .newton import least_squares_factor, newton
 
 __all__ = ["TimeHistory", "accelerations", "integrate", "consistent_state", "steady_state"]
 
@@ -79,15 +80,9 @@ def consistent_state(system, q, qd, t, omega, params=None, tol=1e-13, max_iter=5
     if system.m == 0:
         return q, qd
     T = np.array([t], float)
-    for _ in range(max_iter):
-        phi = system.constraint(q[None], T, omega, P)[0]
-        if np.max(np.abs(phi)) < tol:
-            break
-        Pq = system.constraint_jacobian(q[None], T, omega, P)[0]
-        q -= np.linalg.lstsq(Pq, phi, rcond=None)[0]
-    else:
-        raise ConvergenceError(f"could not satisfy the constraints at t={t}: |Phi|={np.max(np.abs(phi)):.3g}",
-                               float(np.max(np.abs(phi))), max_iter)
+    q = newton(lambda x: (system.constraint(x[None], T, omega, P)[0], system.constraint_jacobian(x[None], T, omega, P)[0]),
+               q, tol=tol, max_iter=max_iter, factor=least_squares_factor,
+               label=f"projection onto the constraints at t={t}", hint="start from a configuration near Phi = 0").x
     Pq = system.constraint_jacobian(q[None], T, omega, P)[0]
     phit, _ = system.constraint_rates(q[None], qd[None], T, omega, P)
     qd -= np.linalg.lstsq(Pq, Pq @ qd + phit[0], rcond=None)[0]
