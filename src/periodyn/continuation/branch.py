@@ -27,7 +27,7 @@ Attributes: parameter_name ('' for omega), status, method, subharmonic, options 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -100,11 +100,11 @@ class Branch:
 
     @classmethod
     def from_solutions(cls, solutions, parameter, parameter_name, special_points, status, problem=None,
-                       options=None, unknowns=None) -> "Branch":
-        """Columns from the PeriodicSolutions of the points (residual, iterations from each)."""
+                       options=None, unknowns=None, amplitude=None) -> "Branch":
+        """Columns from the PeriodicSolutions of the points (amplitude computed unless given)."""
         stable = [s.stable for s in solutions]
-        return cls(np.array([s.omega for s in solutions]), np.asarray(parameter, float), parameter_name,
-                   np.array([s.amplitude() for s in solutions]),
+        amplitude = np.array([s.amplitude() for s in solutions]) if amplitude is None else amplitude
+        return cls(np.array([s.omega for s in solutions]), np.asarray(parameter, float), parameter_name, amplitude,
                    np.array(stable, dtype=object if any(v is None for v in stable) else bool),
                    np.array([s.max_multiplier for s in solutions]), np.array([s.residual for s in solutions]),
                    np.array([s.iterations for s in solutions]), tuple(special_points), tuple(solutions), status,
@@ -173,8 +173,9 @@ class Branch:
             specials.append(SpecialPoint(str(v["special_type"][j]), int(v["special_index"][j]),
                                          float(v["special_omega"][j]), float(v["special_parameter"][j]),
                                          complex(v["special_multiplier"][j]), v["special_amplitude"][j], sol))
-        return cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
-                                  options=json.loads(ds.attrs["options"]))
+        branch = cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
+                                    options=json.loads(ds.attrs["options"]), amplitude=v["amplitude"])
+        return replace(branch, max_multiplier=v["max_multiplier"])  # as stored, not exp(log(mu))
 
     def save(self, path):
         """Write the branch to a netCDF file (``periodyn.results.save``); returns the path."""

@@ -181,17 +181,6 @@ class IHBProblem:
         cc = np.concatenate([(co[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel() for co in cols])
         return sp.csc_matrix((data, (rr, cc)), shape=(self.size, self.size))
 
-    def parameter_derivative(self, X, omega, params, name: str | None) -> np.ndarray:
-        """dR/d(parameter) by a central difference in that one scalar (omega when name is
-        None); used for the continuation tangent only, never for the Newton Jacobian."""
-        P = dict(self.system.parameters if params is None else params)
-        v = omega if name is None else P[name]
-        h = 1e-6 * max(abs(v), 1e-3)
-        if name is None:
-            return (self.residual(X, omega + h, P) - self.residual(X, omega - h, P)) / (2 * h)
-        Pp, Pm = dict(P, **{name: v + h}), dict(P, **{name: v - h})
-        return (self.residual(X, omega, Pp) - self.residual(X, omega, Pm)) / (2 * h)
-
     # ------------------------------------------------------------------ results
     def linearization(self, X, omega, params=None):
         """The orbit's perturbation equations (``periodyn.dae.linearization.OrbitLinearization``)."""
