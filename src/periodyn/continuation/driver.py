@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
+import scipy.linalg as sla
 
 from ..dae.ihb import IHBProblem, ihb
 from ..dae.linearization import STABILITY_METHODS
@@ -214,7 +215,7 @@ def _refine_fold(arc, a, b):
     def g(s, *_):
         try:
             pt = arc.correct(a.X + s * L * a.t[:arc.N], a.p + s * L * a.t[arc.N], a.t, exact_tangent=True)
-        except (ConvergenceError, np.linalg.LinAlgError, ValueError, RuntimeError):
+        except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
             return None
         return pt.t[arc.N], pt
 

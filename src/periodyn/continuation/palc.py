@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterator
 
 import numpy as np
+import scipy.linalg as sla
 
 from ..errors import ConvergenceError, InputError
 from ..nonlinear.newton import lu_factor, newton
@@ -118,7 +119,8 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
         while ds >= ds_min:
             try:
                 new = arc.correct(pt.X + ds * pt.t[:arc.N], pt.p + ds * pt.t[arc.N], pt.t)
-            except (ConvergenceError, np.linalg.LinAlgError, FloatingPointError, ValueError, RuntimeError):
+            except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, FloatingPointError, ValueError,
+                    RuntimeError):
                 new = None
             if new is not None and not (arc.dot(new.t, pt.t) < 0.9 and ds > ds_min * 2):
                 break

@@ -10,6 +10,7 @@ residual, the iteration count and what to try; it is never returned.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
@@ -40,7 +41,9 @@ def lu_factor(J) -> Callable:
     """solve(b) for a square J: SuperLU when sparse, LAPACK LU when dense."""
     if sp.issparse(J):
         return spla.splu(sp.csc_matrix(J)).solve
-    lu = sla.lu_factor(J, check_finite=False)
+    with warnings.catch_warnings():  # an exactly zero pivot is an error here, not a warning
+        warnings.simplefilter("error", sla.LinAlgWarning)
+        lu = sla.lu_factor(J, check_finite=False)
     return lambda b: sla.lu_solve(lu, b)
 
 
@@ -75,7 +78,7 @@ def newton(equations: Callable, x0, *, tol: float, max_iter: int, factor: Callab
         try:
             solve = factor(J)
             dx = -solve(R)
-        except (RuntimeError, np.linalg.LinAlgError, ValueError) as exc:
+        except (RuntimeError, np.linalg.LinAlgError, ValueError, sla.LinAlgWarning) as exc:
             raise ConvergenceError(f"{label}: singular Jacobian at iteration {it} (residual {rn:.3g}, {exc}); {hint}",
                                    rn, it) from None
         if not np.all(np.isfinite(dx)):
