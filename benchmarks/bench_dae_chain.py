@@ -56,9 +56,9 @@ def main(argv=None) -> dict:
 
     t0 = time.perf_counter()
     for sol in br.solutions[::max(1, len(br) // 8)][:8]:
-        ihb(s, sol.omega, H, initial=sol, stability="monodromy")
+        ihb(s, sol.omega, H, initial=sol, stability="magnus")
     k = len(br.solutions[::max(1, len(br) // 8)][:8])
-    print(f"IHB point + Floquet multipliers (monodromy, {2 * (s.n - s.m)} multipliers): {(time.perf_counter() - t0) / k:.3f} s/point")
+    print(f"IHB point + Floquet multipliers (Magnus, {2 * (s.n - s.m)} multipliers): {(time.perf_counter() - t0) / k:.3f} s/point")
 
     print("integration: stabilized index-1 DAE, DOP853 rtol 1e-8, from rest at the hanging chain")
     print(f"{'omega rad/s':>11} {'IHB s':>8} {'int s/period':>12} {'periods':>8} {'int total s':>11} {'ratio':>7} "
@@ -69,7 +69,7 @@ def main(argv=None) -> dict:
         t0 = time.perf_counter()
         sol = ihb(s, w, H, initial=br.solutions[j], stability=None)
         t_ihb = time.perf_counter() - t0
-        mu = ihb(s, w, H, initial=sol, stability="monodromy").max_multiplier
+        mu = ihb(s, w, H, initial=sol, stability="magnus").max_multiplier
         T = sol.period
         if args.settle:  # measured: integrate period by period until the state repeats to 1e-6
             t0 = time.perf_counter()

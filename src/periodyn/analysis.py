@@ -18,12 +18,12 @@ from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
-from .hb import (RESIDUAL_MAX, PeriodicSolution, balance_storage, half_range_and_mean, output_spectrum,
-                 periodic_solution, singular_balance, solve_balance)
+from .hb import RESIDUAL_MAX, balance_storage, periodic_solution, singular_balance, solve_balance
 from .hill import (FloquetExponents, check_method, choose_method, dense_exponents_batch, method_costs,
                    operator_exponents)
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
+from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import synthesize
 from .system import OmegaSplitModel, RheoLinear
 from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents

@@ -22,110 +22,13 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from .errors import ConvergenceError, InputError
-from .harmonic.operator import BAND_RTOL as _BAND_RTOL
 from .harmonic.operator import FORMS, AliasingWarning, HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import BlockPattern, from_real_basis, real_form, to_real_basis
-from .kernels.harmonic import half_range as _half_range_kernel
-from .spectra import spectral_tail, synthesize, to_samples
+from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum  # noqa: F401 (re-exported)
 from .system import RheoLinear
 
 __all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS", "BalanceStorage", "balance_storage",
            "solve_balance", "check_harmonics"]
-
-
-def half_range_and_mean(coefficients: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Half peak-to-peak and mean of real periodic signals from spectra (2M+1, r).
-
-    Extrema are located on a grid of 8(2M+1) >= 64 angles and refined by Newton steps on
-    the derivative of the Fourier series (jitted kernel)."""
-    c = np.ascontiguousarray(coefficients, dtype=complex)
-    M = (c.shape[0] - 1) // 2
-    half, mean = np.zeros(c.shape[1]), np.zeros(c.shape[1])
-    if M == 0:
-        return half, c[0].real.copy()
-    grid = to_samples(c, max(64, 8 * (2 * M + 1)))
-    _half_range_kernel(c, grid, half, mean)
-    return half, mean
-
-
-@dataclass(frozen=True, eq=False)
-class PeriodicSolution:
-    """Periodic solution ``q(t) = sum_l harmonics[l+m] exp(i l omega t)`` of a rheo-linear system.
-
-    omega: rad/s; harmonics: (2m+1, n) complex, l = -m..m; output_spectrum:
-    (2M+1, n_out) complex spectrum of the outputs y = G(t) q(t) (M = m + band of G);
-    residual: ||H x - f|| / ||f|| of the balance equations; form: "direct"|"inverse-mass".
-    """
-
-    omega: float
-    harmonics: np.ndarray
-    output_spectrum: np.ndarray
-    coordinate_names: tuple[str, ...]
-    output_names: tuple[str, ...]
-    residual: float
-    form: str
-
-    @property
-    def m(self) -> int:
-        return (self.harmonics.shape[0] - 1) // 2
-
-    @property
-    def mean(self) -> np.ndarray:
-        """Mean value per coordinate, (n,)."""
-        return self.harmonics[self.m].real
-
-    @property
-    def output_harmonics(self) -> np.ndarray:
-        """Output harmonics l = -m..m, (2m+1, n_out) complex."""
-        M = (self.output_spectrum.shape[0] - 1) // 2
-        return self.output_spectrum[M - self.m: M + self.m + 1]
-
-    @property
-    def tail(self) -> float:
-        """|q_{+-m}| relative to the largest harmonic: small when m is large enough."""
-        return spectral_tail(self.harmonics)
-
-    def __call__(self, t) -> np.ndarray:
-        """q at times t (s): (len(t), n)."""
-        return synthesize(self.harmonics, self.omega * np.atleast_1d(np.asarray(t, dtype=float)))
-
-    def velocity(self, t) -> np.ndarray:
-        """q' at times t (s): (len(t), n)."""
-        l = np.arange(-self.m, self.m + 1)
-        return synthesize(self.harmonics * (1j * l * self.omega)[:, None], self.omega * np.atleast_1d(t))
-
-    def outputs(self, t) -> np.ndarray:
-        """Outputs y = G(t) q(t) at times t (s): (len(t), n_out)."""
-        return synthesize(self.output_spectrum, self.omega * np.atleast_1d(np.asarray(t, dtype=float)))
-
-    def amplitude(self) -> np.ndarray:
-        """Half peak-to-peak of each coordinate over one period, (n,)."""
-        return half_range_and_mean(self.harmonics)[0]
-
-    def output_amplitude(self) -> np.ndarray:
-        """Half peak-to-peak of each output over one period, (n_out,)."""
-        return half_range_and_mean(self.output_spectrum)[0]
-
-    def output_mean(self) -> np.ndarray:
-        """Mean of each output, (n_out,)."""
-        M = (self.output_spectrum.shape[0] - 1) // 2
-        return self.output_spectrum[M].real
-
-
-def output_spectrum(G: np.ndarray, harmonics: np.ndarray) -> np.ndarray:
-    """Spectrum of y = G(t) q(t): G (2KG+1, n_out, n), q (..., 2m+1, n) ->
-    (..., 2(m+KG')+1, n_out), with KG' the significant band of G (the product is exact,
-    no aliasing); leading axes (e.g. speeds) are carried along."""
-    KG = (G.shape[0] - 1) // 2
-    mag = np.abs(G).reshape(G.shape[0], -1).max(axis=1)
-    big = np.nonzero(mag > _BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
-    kg = int(np.abs(big - KG).max()) if big.size else 0
-    G = G[KG - kg: KG + kg + 1]
-    m = (harmonics.shape[-2] - 1) // 2
-    out = np.zeros(harmonics.shape[:-2] + (2 * (m + kg) + 1, G.shape[1]), dtype=complex)
-    for j in range(2 * kg + 1):  # y_{l + (j-kg)} += G_{j-kg} q_l
-        out[..., j: j + 2 * m + 1, :] += harmonics @ G[j].T
-    return out
 
 
 def singular_balance(omega: float, detail: str) -> InputError:

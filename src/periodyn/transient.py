@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .hb import PeriodicSolution
+from .periodic import PeriodicSolution
 from .system import RheoLinear
 from .timedomain import integrate
 

@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
+from periodyn import RheoLinear, characteristic_exponents
 from periodyn.dae import DAE, ihb
+from periodyn.dae.ihb import IHBProblem
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.dae_examples import rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import integrate, shooting, steady_state
@@ -50,9 +52,29 @@ def test_ihb_multipliers_equal_direct_integration_multipliers(rod_steady):
 
 def test_ihb_hill_and_monodromy_agree():
     s = slider_rod_pendulum()
-    mono = ihb(s, 6.0, 10, stability="monodromy")
+    mono = ihb(s, 6.0, 10, stability="magnus")
     hill = ihb(s, 6.0, 10, stability="hill")
     np.testing.assert_allclose(np.sort(np.abs(mono.multipliers)), np.sort(np.abs(hill.multipliers)), atol=1e-7)
+
+
+def test_shared_hill_magnus_and_monodromy_give_the_multipliers_of_direct_integration():
+    """The slider-rod orbit linearized to a periodyn.RheoLinear: its multipliers by dense Hill,
+    Magnus and the DOP853 monodromy of the shared linear core equal the monodromy of the
+    full non-linear DAE integrated directly (shooting) to 1e-8."""
+    s = slider_rod_pendulum()
+    sol = ihb(s, 6.0, 12, tol=1e-11, stability=None)
+    sh = shooting(s, 6.0, initial=sol, tol=1e-11)
+    direct = np.sort_complex(sh.multipliers)
+    prob = IHBProblem(s, 12)
+    X = prob.from_solution(sol)
+    lin = prob.linearization(X, 6.0)
+    assert isinstance(lin.rheo, RheoLinear) and lin.rheo.n == 2 and lin.rheo.omega == 6.0
+    for method in ("dense", "magnus", "monodromy"):
+        exps = prob.exponents(X, 6.0, method=method)
+        assert exps.method == method and exps.period == sol.period
+        np.testing.assert_allclose(np.sort_complex(exps.multipliers), direct, atol=1e-8)
+    via_core = characteristic_exponents(lin.rheo, 12, method="dense")
+    np.testing.assert_allclose(np.sort_complex(via_core.multipliers), direct, atol=1e-8)
 
 
 def test_slider_rod_ihb_vs_shooting_including_constraint_forces():
@@ -118,7 +140,7 @@ def test_41_body_chain_ihb_orbit_under_integration_and_hill_vs_monodromy():
     state stays on the orbit; Hill and monodromy multipliers agree."""
     s = slider_chain_pendulum()
     w = 5.0
-    sol = ihb(s, w, 10, stability="monodromy")
+    sol = ihb(s, w, 10, stability="magnus")
     t = np.linspace(0, sol.period, 11)
     th = integrate(s, w, (0, sol.period), sol(0.0)[0], sol.velocity(0.0)[0], t_eval=t, rtol=1e-10, atol=1e-12)
     assert np.abs(th.q - sol(t)).max() < 1e-6

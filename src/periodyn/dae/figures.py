@@ -21,7 +21,7 @@ def load_sweep(name: str) -> dict:
 
 def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:blue", x=None) -> None:
     """Amplitude of one coordinate along a branch: solid stable, dashed unstable, markers
-    at special points (linear interpolation of the amplitude at their parameter)."""
+    at special points (their refined amplitude)."""
     xs = branch.parameter if x is None else x
     amp = branch.amplitude[:, coordinate]
     stable = np.array([bool(s) for s in branch.stable])
@@ -33,10 +33,8 @@ def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:
                 label=f"{label} {'stable' if flag else 'unstable'}".strip())
     for sp in branch.special_points:
         m, c = _MARK[sp.type]
-        v = sp.parameter
-        i = sp.index
-        a = np.interp(v, sorted([xs[i], xs[i + 1]]), amp[[i, i + 1]] if xs[i] <= xs[i + 1] else amp[[i + 1, i]])
-        ax.plot([v], [a], m, color=c, mfc="none", ms=8, label=sp.type)
+        v = sp.parameter if x is None else np.interp(sp.parameter, branch.parameter, xs)
+        ax.plot([v], [sp.amplitude[coordinate]], m, color=c, mfc="none", ms=8, label=sp.type)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
     ax.legend(uniq.values(), uniq.keys(), fontsize=7)

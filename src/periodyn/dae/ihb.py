@@ -23,15 +23,18 @@ not band-limited: raise ``samples`` and check convergence in H.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
-from ..errors import ConvergenceError, InputError
+from ..errors import InputError
+from ..nonlinear.newton import newton
+from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
 from .fourier import complex_to_real, derivative_matrix, product_blocks, real_coefficients, real_samples, real_to_complex
+from .linearization import linearize_orbit, orbit_exponents
 from .model import DAE
-from .solution import PeriodicSolution
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
 
@@ -106,7 +109,8 @@ class IHBProblem:
         Hs = (sol.harmonics.shape[0] - 1) // 2
         pad = max(0, self.H - Hs)
         cq = np.pad(sol.harmonics, ((pad, pad), (0, 0)))
-        cl = np.pad(sol.lambda_harmonics, ((pad, pad), (0, 0)))
+        lam = sol.lambda_harmonics if sol.lambda_harmonics is not None else np.zeros((2 * Hs + 1, self.m))
+        cl = np.pad(lam, ((pad, pad), (0, 0)))
         return self.join(complex_to_real(cq, self.H), complex_to_real(cl, self.H))
 
     # ------------------------------------------------------------------ AFT
@@ -177,66 +181,46 @@ class IHBProblem:
         cc = np.concatenate([(co[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel() for co in cols])
         return sp.csc_matrix((data, (rr, cc)), shape=(self.size, self.size))
 
-    def parameter_derivative(self, X, omega, params, name: str | None) -> np.ndarray:
-        """dR/d(parameter) by a central difference in that one scalar (omega when name is
-        None); used for the continuation tangent only, never for the Newton Jacobian."""
-        P = dict(self.system.parameters if params is None else params)
-        v = omega if name is None else P[name]
-        h = 1e-6 * max(abs(v), 1e-3)
-        if name is None:
-            return (self.residual(X, omega + h, P) - self.residual(X, omega - h, P)) / (2 * h)
-        Pp, Pm = dict(P, **{name: v + h}), dict(P, **{name: v - h})
-        return (self.residual(X, omega, Pp) - self.residual(X, omega, Pm)) / (2 * h)
-
     # ------------------------------------------------------------------ results
-    def solution(self, X, omega, params, residual, iterations, multipliers, method="ihb") -> PeriodicSolution:
+    def linearization(self, X, omega, params=None):
+        """The orbit's perturbation equations (``periodyn.dae.linearization.OrbitLinearization``)."""
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
+
+    def exponents(self, X, omega, params=None, method="magnus"):
+        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu)."""
+        exps = orbit_exponents(self.linearization(X, omega, params), method)
+        return replace(exps, omega=float(omega), subharmonic=self.nu)
+
+    def solution(self, X, omega, params, residual, iterations, stability=None) -> PeriodicSolution:
+        """The PeriodicSolution of unknowns X (the real layout ends here: two-sided harmonics)."""
         Aq, Al = self.split(X)
         s = self.system
-        return PeriodicSolution(float(omega), self.nu, real_to_complex(Aq), real_to_complex(Al), float(residual),
-                                int(iterations), multipliers, method, dict(s.parameters if params is None else params),
-                                s.coordinate_names, s.constraint_names, self.p)
+        return PeriodicSolution(float(omega), real_to_complex(Aq), None, s.coordinate_names, s.coordinate_names,
+                                float(residual), iterations=int(iterations), method="ihb", subharmonic=self.nu,
+                                lambda_harmonics=real_to_complex(Al), constraint_names=s.constraint_names,
+                                stability=stability, parameters=dict(s.parameters if params is None else params))
 
     def newton(self, X, omega, params=None, tol=1e-8, max_iter=30):
-        """Plain Newton; returns (X, residual norm, iterations) or raises ConvergenceError."""
-        X = np.array(X, dtype=float)
-        rn = np.inf
-        for it in range(max_iter + 1):
-            R, J = self.residual_jacobian(X, omega, params)
-            rn = float(np.max(np.abs(R)))
-            if not np.isfinite(rn):
-                break
-            if rn <= tol:
-                return X, rn, it
-            if it == max_iter:
-                break
-            try:
-                dX = spla.splu(J).solve(-R)
-            except RuntimeError:
-                raise ConvergenceError(f"IHB Jacobian singular at omega={omega:.6g} rad/s (iteration {it}); "
-                                       "start closer to the orbit or change omega", rn, it) from None
-            # backtracking on the residual max-norm: full steps near the solution
-            step = 1.0
-            for _ in range(6):
-                Xt = X + step * dX
-                if float(np.max(np.abs(self.residual(Xt, omega, params)))) < rn or step < 0.05:
-                    break
-                step *= 0.5
-            X = Xt
-        raise ConvergenceError(f"IHB Newton did not converge at omega={omega:.6g} rad/s: residual {rn:.3g} > tol {tol:.1g} "
-                               f"after {max_iter} iterations; give a better initial guess (continuation) or more "
-                               "harmonics", rn, max_iter)
+        """Newton with backtracking on the residual max-norm; returns a NewtonResult or raises
+        ConvergenceError."""
+        return newton(lambda Y: self.residual_jacobian(Y, omega, params), X, tol=tol, max_iter=max_iter,
+                      residual=lambda Y: self.residual(Y, omega, params), backtrack=6,
+                      label=f"IHB Newton at omega={omega:.6g} rad/s",
+                      hint="give a better initial guess (continuation) or more harmonics")
 
 
 def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
-        subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "monodromy",
+        subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "magnus",
         params=None) -> PeriodicSolution:
     """Periodic solution of ``system`` driven at ``omega`` (rad/s) by EGA-IHB.
 
     harmonics: H; samples: p (default see module docstring); initial: a
     PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
     (``system.q0``); subharmonic: nu (orbit period nu 2 pi / omega); tol: residual
-    max-norm (N, N m, m, rad); stability: "monodromy", "hill" or None (see
-    ``periodyn.dae.stability``). Raises ConvergenceError when Newton fails.
+    max-norm (N, N m, m, rad); stability: a method of
+    ``periodyn.dae.linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
+    "sparse") or None. Raises ConvergenceError when Newton fails.
     """
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
@@ -251,9 +235,6 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
         if X0.shape != (prob.size,):
             raise InputError(f"initial must be a PeriodicSolution, an (n,)={system.n} configuration or a vector of "
                              f"{prob.size} unknowns, got shape {a.shape}")
-    X, rn, it = prob.newton(X0, float(omega), params, tol, max_iter)
-    mult = None
-    if stability is not None:
-        from .stability import ihb_multipliers
-        mult = ihb_multipliers(prob, X, float(omega), params, method=stability)
-    return prob.solution(X, omega, params, rn, it, mult)
+    res = prob.newton(X0, float(omega), params, tol, max_iter)
+    exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
+    return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)

@@ -27,6 +27,29 @@ from ..errors import InputError
 __all__ = ["DAE"]
 
 _CSTEP = 1e-30  # complex-step size: derivatives exact to round-off, no truncation error
+_FD_REL = 1e-5  # central-difference step (relative) for the Hessian of a derived constraint Jacobian
+
+
+def complex_step(fun, x) -> np.ndarray:
+    """Jacobian d fun / d x (..., n) of a real function of x (n,) that accepts complex x,
+    by the complex step (exact to round-off)."""
+    cols = []
+    for j in range(x.shape[0]):
+        xc = x.astype(complex)
+        xc[j] += 1j * _CSTEP
+        cols.append(np.asarray(fun(xc)).imag / _CSTEP)
+    return np.stack(cols, axis=-1)
+
+
+def _refuse_real_only(build, what: str, fix: str) -> None:
+    """Call build() once; a callable that drops the imaginary part of its argument is refused."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", np.exceptions.ComplexWarning)
+            build()
+    except (TypeError, np.exceptions.ComplexWarning) as exc:
+        raise InputError(f"{what} does not accept complex arguments, so its Jacobian cannot be formed by the "
+                         f"complex step ({exc}); pass {fix}") from None
 
 
 class DAE:
@@ -97,9 +120,11 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
     force_jacobian: ``(q, qd, t, omega[, params])`` -> (df/dq, df/dq'), each (n,n);
       default: complex-step differentiation of ``force`` (exact to round-off; the
       callable must accept complex q, qd).
-    constraint_jacobian: ``(q, t, omega[, params])`` -> Phi_q (m,n); required with a constraint.
+    constraint_jacobian: ``(q, t, omega[, params])`` -> Phi_q (m,n); default: complex
+      step of ``constraint`` (which must then accept complex q).
     constraint_hessian: ``(q, lam, t, omega[, params])`` -> sum_k lam_k Phi_k,qq (n,n);
-      default: complex step of ``constraint_jacobian``.
+      default: complex step of the given ``constraint_jacobian``, or central differences
+      (relative step 1e-5, error ~1e-10) of the derived one.
     constraint_rates: ``(q, qd, t, omega[, params])`` -> (Phi_t (m,), gamma (m,)) with
       ``Phi_q q'' = gamma``; needed for integration/shooting. Default: a constraint
       without explicit time dependence, ``Phi_t = 0``, ``gamma_k = -qd^T Phi_k,qq qd``.
@@ -141,13 +166,7 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
                 return np.stack([np.asarray(mass_jacobian(qk, ak), dtype=float) for qk, ak in zip(q, a)])
         else:
             def mjac_b(q, a):
-                out = np.empty((q.shape[0], n, n))
-                for k in range(q.shape[0]):
-                    for j in range(n):
-                        qc = q[k].astype(complex)
-                        qc[j] += 1j * _CSTEP
-                        out[k, :, j] = (np.asarray(mass(qc)) @ a[k]).imag / _CSTEP
-                return out
+                return np.stack([complex_step(lambda x: np.asarray(mass(x)) @ ak, qk) for qk, ak in zip(q, a)])
     else:
         def mass_b(q):
             return np.broadcast_to(M, (q.shape[0], n, n))
@@ -167,24 +186,13 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
             return Kq, Kv
     else:
         def fjac_b(q, qd, t, w, P):
-            Kq = np.empty((q.shape[0], n, n))
-            Kv = np.empty((q.shape[0], n, n))
-            for k in range(q.shape[0]):
-                for j in range(n):
-                    qc = q[k].astype(complex)
-                    qc[j] += 1j * _CSTEP
-                    Kq[k, :, j] = call_force(qc, qd[k].astype(complex), float(t[k]), w, P).imag / _CSTEP
-                    vc = qd[k].astype(complex)
-                    vc[j] += 1j * _CSTEP
-                    Kv[k, :, j] = call_force(q[k].astype(complex), vc, float(t[k]), w, P).imag / _CSTEP
+            Kq = np.stack([complex_step(lambda x: call_force(x, qd[k].astype(complex), float(t[k]), w, P), q[k])
+                           for k in range(q.shape[0])])
+            Kv = np.stack([complex_step(lambda v: call_force(q[k].astype(complex), v, float(t[k]), w, P), qd[k])
+                           for k in range(q.shape[0])])
             return Kq, Kv
-        try:
-            with warnings.catch_warnings():  # a callable that drops the imaginary part is refused
-                warnings.simplefilter("error", np.exceptions.ComplexWarning)
-                fjac_b(q0a[None], np.zeros((1, n)), np.zeros(1), 1.0, params0)
-        except (TypeError, np.exceptions.ComplexWarning) as exc:
-            raise InputError("force does not accept complex arguments, so its Jacobian cannot be formed by the "
-                             f"complex step ({exc}); pass force_jacobian=(q, qd, t, omega) -> (df/dq, df/dqd)") from None
+        _refuse_real_only(lambda: fjac_b(q0a[None], np.zeros((1, n)), np.zeros(1), 1.0, params0), "force",
+                          "force_jacobian=(q, qd, t, omega) -> (df/dq, df/dqd)")
 
     # ---- constraint
     if constraint is None:
@@ -202,9 +210,13 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
         def rates_b(q, qd, t, w, P):
             return np.zeros((q.shape[0], 0)), np.zeros((q.shape[0], 0))
     else:
-        if constraint_jacobian is None:
-            raise InputError("a constraint needs its Jacobian: pass constraint_jacobian=(q, t, omega) -> Phi_q (m, n)")
         m = len(np.atleast_1d(constraint(q0a, 0.0, 1.0, *extra(params0))))
+        derived = constraint_jacobian is None
+        if derived:  # complex step of the constraint, like the force's
+            def constraint_jacobian(q, t, w, *P):
+                return complex_step(lambda x: constraint(x, t, w, *P), np.asarray(q, float)).reshape(m, n)
+            _refuse_real_only(lambda: constraint_jacobian(q0a, 0.0, 1.0, *extra(params0)), "the constraint",
+                              "constraint_jacobian=(q, t, omega) -> Phi_q (m, n)")
 
         def phi_b(q, t, w, P):
             return np.stack([np.asarray(constraint(q[k], float(t[k]), w, *extra(P)), dtype=float).reshape(m)
@@ -214,18 +226,27 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
             return np.stack([np.asarray(constraint_jacobian(q[k], float(t[k]), w, *extra(P)), dtype=float).reshape(m, n)
                              for k in range(q.shape[0])])
 
+        def lam_phiq(q, lam, t, w, P):
+            return np.asarray(constraint_jacobian(q, t, w, *extra(P))).T @ lam
+
         if constraint_hessian is not None:
             def hess_b(q, lam, t, w, P):
                 return np.stack([np.asarray(constraint_hessian(q[k], lam[k], float(t[k]), w, *extra(P)), dtype=float)
                                  for k in range(q.shape[0])])
-        else:
+        elif not derived:  # complex step of the given Jacobian
+            def hess_b(q, lam, t, w, P):
+                return np.stack([complex_step(lambda x: lam_phiq(x, lam[k], float(t[k]), w, P), q[k])
+                                 for k in range(q.shape[0])])
+        else:  # central differences of the complex-step Jacobian (truncation ~1e-10 relative)
             def hess_b(q, lam, t, w, P):
                 out = np.empty((q.shape[0], n, n))
                 for k in range(q.shape[0]):
                     for j in range(n):
-                        qc = q[k].astype(complex)
-                        qc[j] += 1j * _CSTEP
-                        out[k, :, j] = (np.asarray(constraint_jacobian(qc, float(t[k]), w, *extra(P))).T @ lam[k]).imag / _CSTEP
+                        h = _FD_REL * max(1.0, abs(q[k, j]))
+                        e = np.zeros(n)
+                        e[j] = h
+                        out[k, :, j] = (lam_phiq(q[k] + e, lam[k], float(t[k]), w, P)
+                                        - lam_phiq(q[k] - e, lam[k], float(t[k]), w, P)) / (2 * h)
                 return out
 
         if constraint_rates is not None:

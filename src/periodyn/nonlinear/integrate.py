@@ -20,8 +20,9 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import ConvergenceError, InputError
+from .newton import least_squares_factor, newton
 
-__all__ = ["TimeHistory", "accelerations", "integrate", "consistent_state", "steady_state"]
+__all__ = ["TimeHistory", "accelerations", "integrate", "consistent_state", "steady_state", "solve"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,19 +80,23 @@ def consistent_state(system, q, qd, t, omega, params=None, tol=1e-13, max_iter=5
     if system.m == 0:
         return q, qd
     T = np.array([t], float)
-    for _ in range(max_iter):
-        phi = system.constraint(q[None], T, omega, P)[0]
-        if np.max(np.abs(phi)) < tol:
-            break
-        Pq = system.constraint_jacobian(q[None], T, omega, P)[0]
-        q -= np.linalg.lstsq(Pq, phi, rcond=None)[0]
-    else:
-        raise ConvergenceError(f"could not satisfy the constraints at t={t}: |Phi|={np.max(np.abs(phi)):.3g}",
-                               float(np.max(np.abs(phi))), max_iter)
+    q = newton(lambda x: (system.constraint(x[None], T, omega, P)[0], system.constraint_jacobian(x[None], T, omega, P)[0]),
+               q, tol=tol, max_iter=max_iter, factor=least_squares_factor,
+               label=f"projection onto the constraints at t={t}", hint="start from a configuration near Phi = 0").x
     Pq = system.constraint_jacobian(q[None], T, omega, P)[0]
     phit, _ = system.constraint_rates(q[None], qd[None], T, omega, P)
     qd -= np.linalg.lstsq(Pq, Pq @ qd + phit[0], rcond=None)[0]
     return q, qd
+
+
+def solve(rhs, t_span, y0, *, t_eval=None, rtol=1e-10, atol=1e-12, method="DOP853", max_step=np.inf):
+    """The one integrator wrapper: scipy ``solve_ivp`` of y' = rhs(t, y); a failure raises
+    ConvergenceError saying what to try."""
+    sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, max_step=max_step)
+    if sol.status != 0:
+        raise ConvergenceError(f"time integration failed at t={sol.t[-1]:.6g} s: {sol.message}; "
+                               "lower the tolerances or check the model", float("nan"), int(sol.nfev))
+    return sol
 
 
 def integrate(system, omega, t_span, q0, qd0, *, t_eval=None, params=None, rtol=1e-10, atol=1e-12,
@@ -109,11 +114,8 @@ def integrate(system, omega, t_span, q0, qd0, *, t_eval=None, params=None, rtol=
         qdd, _ = accelerations(system, Y[0], Y[1], np.full(b, t), omega, params, baumgarte)
         return np.concatenate([Y[1].ravel(), qdd.ravel()])
 
-    sol = solve_ivp(rhs, t_span, np.concatenate([q0.ravel(), qd0.ravel()]), method=method, t_eval=t_eval,
-                    rtol=rtol, atol=atol, max_step=max_step)
-    if sol.status != 0:
-        raise ConvergenceError(f"time integration failed at t={sol.t[-1]:.6g} s: {sol.message}; "
-                               "lower the tolerances or check the model", float("nan"), int(sol.nfev))
+    sol = solve(rhs, t_span, np.concatenate([q0.ravel(), qd0.ravel()]), t_eval=t_eval, rtol=rtol, atol=atol,
+                method=method, max_step=max_step)
     Y = sol.y.T.reshape(-1, 2, b, n)
     q, qd = Y[:, 0], Y[:, 1]
     k = len(sol.t)

@@ -16,12 +16,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
-from ..errors import ConvergenceError, InputError
+from ..errors import InputError
+from ..floquet import FloquetExponents
+from ..periodic import PeriodicSolution
 from ..spectra import fourier_coefficients
-from ..dae.solution import PeriodicSolution
 from .integrate import consistent_state, integrate
+from .newton import newton
 
-__all__ = ["ShootingProblem", "shooting"]
+__all__ = ["ShootingProblem", "shooting", "start_state"]
 
 _FD = 1e-6
 
@@ -57,14 +59,14 @@ class ShootingProblem:
             return q, qd
         P = self.system.parameters if params is None else params
         T0 = np.zeros(1)
-        for _ in range(50):
+
+        def equations(v):
+            q[self.dep] = v
             phi = self.system.constraint(q[None], T0, omega, P)[0]
-            if np.max(np.abs(phi)) < 1e-14:
-                break
-            Pq = self.system.constraint_jacobian(q[None], T0, omega, P)[0]
-            q[self.dep] -= np.linalg.solve(Pq[:, self.dep], phi)
-        else:
-            raise ConvergenceError("dependent coordinates not found for this shooting state", float(np.max(np.abs(phi))), 50)
+            return phi, self.system.constraint_jacobian(q[None], T0, omega, P)[0][:, self.dep]
+
+        q[self.dep] = newton(equations, q[self.dep], tol=1e-14, max_iter=50, label="dependent coordinates of a "
+                             "shooting state", hint="the state is far from the constraint manifold").x
         Pq = self.system.constraint_jacobian(q[None], T0, omega, P)[0]
         phit, _ = self.system.constraint_rates(q[None], qd[None], T0, omega, P)
         qd[self.dep] = -np.linalg.solve(Pq[:, self.dep], Pq[:, self.ind] @ qd[self.ind] + phit[0])
@@ -97,50 +99,20 @@ class ShootingProblem:
         mono = (F[1:k + 1] - F[k + 1:]).T / (2 * h)
         return F[0] - s, mono - np.eye(k)
 
-    def parameter_derivative(self, s, omega, params, name):
-        """dR/d(parameter) by central differences (omega when name is None)."""
-        P = dict(self.system.parameters if params is None else params)
-        v = omega if name is None else P[name]
-        h = 1e-6 * max(abs(v), 1e-3)
-        if name is None:
-            return (self.residual(s, omega + h, P) - self.residual(s, omega - h, P)) / (2 * h)
-        return (self.residual(s, omega, dict(P, **{name: v + h})) - self.residual(s, omega, dict(P, **{name: v - h}))) / (2 * h)
-
     def newton(self, s, omega, params=None, tol=1e-9, max_iter=30):
-        """Newton on R(s) = 0; returns (s, residual, iterations, monodromy)."""
-        s = np.array(s, float)
-        for it in range(max_iter + 1):
-            R, J = self.residual_jacobian(s, omega, params)
-            rn = float(np.max(np.abs(R)))
-            if rn <= tol:
-                return s, rn, it, J + np.eye(self.size)
-            if it == max_iter or not np.isfinite(rn):
-                break
-            ds = -np.linalg.solve(J, R)
-            step = 1.0  # backtracking: never accept a step that increases the residual much
-            for _ in range(8):
-                try:
-                    if float(np.max(np.abs(self.residual(s + step * ds, omega, params)))) < 2 * rn:
-                        break
-                except ConvergenceError:
-                    pass
-                step *= 0.5
-            s = s + step * ds
-        raise ConvergenceError(f"shooting did not converge at omega={omega:.6g} rad/s: residual {rn:.3g} > tol {tol:.1g}; "
-                               "start from a better guess (IHB solution or longer settling)", rn, it)
+        """Newton on R(s) = 0 (backtracking: no step that doubles the residual); returns a
+        NewtonResult whose jacobian + I is the monodromy matrix at the orbit."""
+        return newton(lambda x: self.residual_jacobian(x, omega, params), s, tol=tol, max_iter=max_iter,
+                      residual=lambda x: self.residual(x, omega, params), backtrack=9, accept=2.0,
+                      label=f"shooting at omega={omega:.6g} rad/s",
+                      hint="start from a better guess (IHB solution or longer settling)")
 
-    def initial(self, guess, omega, params=None) -> np.ndarray:
-        """Start state from a PeriodicSolution, a full state (q, qd) or None (system.q0 at rest)."""
-        if isinstance(guess, PeriodicSolution):
-            q, qd = guess(0.0)[0], guess.velocity(0.0)[0]
-        elif guess is None:
-            q, qd = self.system.q0, np.zeros(self.system.n)
-        else:
-            q, qd = guess
-        q, qd = consistent_state(self.system, q, qd, 0.0, omega, params)
-        return self.state(q, qd)
+    def exponents(self, jacobian, omega) -> FloquetExponents:
+        """Floquet exponents from the shooting Jacobian Phi_T - I at a converged orbit."""
+        mu = np.linalg.eigvals(jacobian + np.eye(self.size))
+        return FloquetExponents.from_multipliers(mu, float(omega), "shooting", self.nu)
 
-    def solution(self, s, omega, params, residual, iterations, multipliers, harmonics=None) -> PeriodicSolution:
+    def solution(self, s, omega, params, residual, iterations, stability, harmonics=None) -> PeriodicSolution:
         """Sample the converged orbit at p points and return its spectra (H = (p-1)//2 or harmonics)."""
         q0, qd0 = self.full_state(s, omega, params)
         T = 2 * np.pi * self.nu / omega
@@ -149,9 +121,22 @@ class ShootingProblem:
         H = harmonics if harmonics is not None else (self.p - 1) // 2
         sysm = self.system
         lam = fourier_coefficients(th.lam, H) if sysm.m else np.zeros((2 * H + 1, 0), complex)
-        return PeriodicSolution(float(omega), self.nu, fourier_coefficients(th.q, H), lam, float(residual), int(iterations),
-                                multipliers, "shooting", dict(sysm.parameters if params is None else params),
-                                sysm.coordinate_names, sysm.constraint_names, self.p)
+        return PeriodicSolution(float(omega), fourier_coefficients(th.q, H), None, sysm.coordinate_names,
+                                sysm.coordinate_names, float(residual), iterations=int(iterations), method="shooting",
+                                subharmonic=self.nu, lambda_harmonics=lam, constraint_names=sysm.constraint_names,
+                                stability=stability, parameters=dict(sysm.parameters if params is None else params))
+
+
+def start_state(system, guess, omega, params=None):
+    """Consistent (q, qd) (n,) at t = 0 from a PeriodicSolution, a full state (q, qd) or
+    None (``system.q0`` at rest)."""
+    if isinstance(guess, PeriodicSolution):
+        q, qd = guess(0.0)[0], guess.velocity(0.0)[0]
+    elif guess is None:
+        q, qd = system.q0, np.zeros(system.n)
+    else:
+        q, qd = guess
+    return consistent_state(system, q, qd, 0.0, omega, params)
 
 
 def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle_periods: int = 0, tol: float = 1e-9,
@@ -166,18 +151,12 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     """
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
-    if isinstance(initial, PeriodicSolution):
-        q, qd = initial(0.0)[0], initial.velocity(0.0)[0]
-    elif initial is None:
-        q, qd = system.q0, np.zeros(system.n)
-    else:
-        q, qd = initial
-    q, qd = consistent_state(system, q, qd, 0.0, omega, params)
+    q, qd = start_state(system, initial, omega, params)
     if settle_periods:
         T = 2 * np.pi * subharmonic / omega
         th = integrate(system, omega, (0.0, settle_periods * T), q, qd, t_eval=[settle_periods * T], params=params,
                        rtol=1e-9, atol=1e-11)
         q, qd = consistent_state(system, th.q[-1], th.qd[-1], 0.0, omega, params)
     prob = ShootingProblem(system, q, subharmonic, rtol=rtol, samples=samples)
-    s, rn, it, mono = prob.newton(prob.state(q, qd), float(omega), params, tol, max_iter)
-    return prob.solution(s, omega, params, rn, it, np.linalg.eigvals(mono))
+    res = prob.newton(prob.state(q, qd), float(omega), params, tol, max_iter)
+    return prob.solution(res.x, omega, params, res.residual, res.iterations, prob.exponents(res.jacobian, omega))

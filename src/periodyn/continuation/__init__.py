@@ -1,0 +1,13 @@
+"""Pseudo-arc-length continuation of periodic solutions and its results.
+
+``palc`` (predictor-corrector, step control), ``events`` (one classifier of folds, period
+doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
+``Branch`` and its netCDF file), ``driver`` (``continuation`` for IHB and shooting with
+``ContinuationOptions``), ``switching`` (onto the period-doubled branch).
+"""
+
+from .branch import Branch, SpecialPoint, load_branch
+from .driver import ContinuationOptions, continuation
+from .switching import switch_period_doubling
+
+__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "continuation", "load_branch", "switch_period_doubling"]

@@ -1,0 +1,253 @@
+"""``continuation``: response curves of a ``periodyn.DAE`` by IHB or shooting.
+
+A discretization (:class:`_IHB`, :class:`_Shooting`) gives ``equations(X, omega, P)``,
+``residual``, ``exponents`` (Floquet, or None) and ``solution``; the arc-length driver
+(``palc``) sees only ``R(X, p)``; special points are classified and refined by ``events``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..dae.ihb import IHBProblem, ihb
+from ..dae.linearization import STABILITY_METHODS
+from ..dae.model import DAE
+from ..errors import ConvergenceError, InputError
+from ..nonlinear.newton import newton
+from ..nonlinear.shooting import ShootingProblem, start_state
+from .branch import Branch, SpecialPoint
+from .events import classify, illinois
+from .palc import Arc, first_point, trace
+
+__all__ = ["ContinuationOptions", "continuation"]
+
+
+@dataclass(frozen=True)
+class ContinuationOptions:
+    """Step control and discretization options of :func:`continuation`.
+
+    ds, ds_min, ds_max: initial, smallest and largest arc-length step (scaled norm, see
+    ``palc``); max_points: branch points at most; tol: residual max-norm (default 1e-8 for
+    IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
+    (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
+    of ``periodyn.dae.linearization.orbit_exponents`` or None (IHB; shooting always has
+    its monodromy); shooting_samples: orbit samples of a shooting solution.
+    """
+
+    ds: float = 0.02
+    ds_min: float = 1e-5
+    ds_max: float = 0.2
+    max_points: int = 400
+    tol: float | None = None
+    max_iter: int = 7
+    samples: int | None = None
+    subharmonic: int = 1
+    stability: str | None = "magnus"
+    shooting_samples: int = 128
+
+    def __post_init__(self):
+        if not (0 < self.ds_min <= self.ds_max) or self.ds <= 0:
+            raise InputError(f"steps must satisfy 0 < ds_min <= ds_max and ds > 0, got ds={self.ds}, "
+                             f"ds_min={self.ds_min}, ds_max={self.ds_max}")
+        if self.max_points < 2 or self.max_iter < 1:
+            raise InputError("max_points must be >= 2 and max_iter >= 1")
+        if self.stability is not None and self.stability not in STABILITY_METHODS:
+            raise InputError(f"stability must be one of {STABILITY_METHODS} or None, got {self.stability!r}")
+
+
+class _IHB:
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+        self.prob = IHBProblem(system, harmonics, opts.samples, opts.subharmonic)
+        self.tol = 1e-8 if opts.tol is None else opts.tol
+        self.stability = opts.stability
+        n, L = system.n, self.prob.L
+        self.groups = [np.arange(n * L), np.arange(n * L, self.prob.size)]
+        X0 = self.prob.from_solution(initial) if initial is not None else self.prob.initial(omega=om0, params=P0)
+        self.X0 = self.prob.newton(X0, om0, P0, self.tol).x
+
+    def equations(self, X, om, P):
+        return self.prob.residual_jacobian(X, om, P)
+
+    def residual(self, X, om, P):
+        return self.prob.residual(X, om, P)
+
+    def exponents(self, X, om, P):
+        return None if self.stability is None else self.prob.exponents(X, om, P, self.stability)
+
+    def solution(self, X, om, P, rn, it, exps):
+        return self.prob.solution(X, om, P, rn, it, exps)
+
+
+class _Shooting:
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+        self.tol = 1e-9 if opts.tol is None else opts.tol
+        self.H = harmonics
+        if initial is None:  # start from the IHB orbit at the first parameter value
+            initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
+                          params=P0)
+        q, qd = start_state(system, initial, om0, P0)
+        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples)
+        self.groups = None
+        self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
+        self._last = (None, None)  # (key, Jacobian) of the latest evaluation: the monodromy is free there
+
+    def equations(self, X, om, P):
+        R, J = self.prob.residual_jacobian(X, om, P)
+        self._last = ((X.tobytes(), om, tuple(sorted(P.items()))), J)
+        return R, J
+
+    def residual(self, X, om, P):
+        return self.prob.residual(X, om, P)
+
+    def exponents(self, X, om, P):
+        key, J = self._last
+        if key != (X.tobytes(), om, tuple(sorted(P.items()))):
+            J = self.prob.residual_jacobian(X, om, P)[1]
+        return self.prob.exponents(J, om)
+
+    def solution(self, X, om, P, rn, it, exps):
+        return self.prob.solution(X, om, P, rn, it, exps, self.H)
+
+
+def _scales(groups, X0: np.ndarray) -> np.ndarray:
+    """Per-unknown scales: RMS of each unknown group (e.g. q and lambda coefficients)."""
+    s = np.empty_like(X0)
+    ref = max(np.sqrt(np.mean(X0 ** 2)), 1e-12)
+    for g in groups or [np.arange(len(X0))]:
+        if len(g):
+            s[g] = max(np.sqrt(np.mean(X0[g] ** 2)), 1e-6 * ref, 1e-12)
+    return s
+
+
+def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
+                 initial=None, tangent=None, options: ContinuationOptions | None = None, **option_values) -> Branch:
+    """Response curve of a ``periodyn.DAE`` by pseudo-arc-length continuation -> Branch.
+
+    omega: (start, stop) rad/s for a frequency response, or a fixed value when
+    ``parameter=(name, start, stop)`` continues a named parameter. method: "ihb" (H =
+    harmonics) or "shooting" (spectra truncated to H). initial: a PeriodicSolution at the
+    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
+    options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
+    fields. Every point carries its residual and Newton iterations; non-converged points
+    are never recorded.
+    """
+    opts = replace(options or ContinuationOptions(), **_known(option_values))
+    if not isinstance(system, DAE):
+        raise InputError(f"continuation expects a periodyn.DAE, got {type(system).__name__}")
+    if parameter is None:
+        try:
+            p0, p1 = (float(v) for v in omega)
+        except TypeError:
+            raise InputError("omega must be (start, stop) in rad/s, or give parameter=(name, start, stop)") from None
+        name = None
+    else:
+        if len(parameter) != 3 or parameter[0] not in system.parameters:
+            raise InputError(f"parameter must be (name, start, stop) with name in {sorted(system.parameters)}")
+        name, p0, p1 = parameter[0], float(parameter[1]), float(parameter[2])
+
+    def at(p):
+        """(omega, parameters) of parameter value p."""
+        return (p, system.parameters) if name is None else (float(omega), dict(system.parameters, **{name: p}))
+
+    if method not in ("ihb", "shooting"):
+        raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
+    disc = (_IHB if method == "ihb" else _Shooting)(system, harmonics, opts, initial, *at(p0))
+    arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)),
+              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter)
+
+    def record(pt):
+        exps = disc.exponents(pt.X, *at(pt.p))
+        return disc.solution(pt.X, *at(pt.p), pt.residual, pt.iterations, exps)
+
+    pts = [first_point(arc, disc.X0, p0, p1, tangent)]
+    sols = [record(pts[0])]
+    specials, status = [], ""
+    for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
+        if isinstance(item, str):
+            status = item
+            break
+        pts.append(item)
+        sols.append(record(item))
+        specials += _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2)
+    options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
+                   samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
+                                                           if f.name not in ("tol", "samples")})
+    return Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
+                                 np.array([pt.X for pt in pts]))
+
+
+def _known(values: dict) -> dict:
+    names = {f.name for f in fields(ContinuationOptions)}
+    unknown = set(values) - names
+    if unknown:
+        raise InputError(f"unknown continuation option(s) {sorted(unknown)}; options are {sorted(names)}")
+    return values
+
+
+def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
+    """Classified and refined special points between accepted points a and b (index k)."""
+    out = []
+    for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
+        found = _refine_fold(arc, a, b) if typ == "fold" else _refine_crossing(arc, disc, at, a, b)
+        if found is None:  # refinement failed: linear interpolation, no orbit
+            p = a.p + s_lin * (b.p - a.p)
+            amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
+            out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None))
+            continue
+        X, p, rn = found
+        exps = disc.exponents(X, *at(p))
+        sol = disc.solution(X, *at(p), rn, 0, exps)
+        if typ != "fold":
+            mu = sol.multipliers
+            crit = complex(mu[int(np.argmax(np.abs(mu)))])
+        out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol))
+    return out
+
+
+def _refine_fold(arc, a, b):
+    """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
+    by the corrector); returns (X, p, residual) or None."""
+    L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
+
+    def g(s, *_):
+        try:
+            pt = arc.correct(a.X + s * L * a.t[:arc.N], a.p + s * L * a.t[arc.N], a.t, exact_tangent=True)
+        except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
+            return None
+        return pt.t[arc.N], pt
+
+    end = g(1.0)
+    if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
+        return None
+    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=1e-10, stol=1e-12)
+    return None if res is None else (res[1].X, res[1].p, res[1].residual)
+
+
+def _refine_crossing(arc, disc, at, a, b):
+    """Parameter where the largest |mu| crosses 1 between a and b (fixed-parameter Newton
+    from the interpolated bracket solutions); returns (X, p, residual) or None."""
+    def indicator(X, p):
+        mu = disc.exponents(X, *at(p)).multipliers
+        return float(np.max(np.abs(mu)) - 1.0)
+
+    def g(s, lo, hi):
+        (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
+        f = (s - sa) / (sb - sa) if sb != sa else 0.5
+        p = a.p + s * (b.p - a.p)
+        try:
+            res = newton(lambda X: disc.equations(X, *at(p)), Xa + f * (Xb - Xa), tol=arc.tol, max_iter=12,
+                         label="special point", hint="")
+        except ConvergenceError:
+            return None
+        return indicator(res.x, p), (res.x, res.residual)
+
+    stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
+    res = illinois(g, (0.0, indicator(a.X, a.p), (a.X, a.residual)), (1.0, indicator(b.X, b.p), (b.X, b.residual)),
+                   ftol=1e-9, stol=stol, max_iter=30)
+    if res is None:
+        return None
+    s, (X, rn) = res
+    return X, a.p + s * (b.p - a.p), rn

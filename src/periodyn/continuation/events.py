@@ -1,0 +1,79 @@
+"""Special points between two branch points: one classifier, one root refinement.
+
+Classification (:func:`classify`): a fold where the parameter component of the tangent,
+dp/ds, changes sign; a period doubling where a real multiplier leaves (or enters) the
+unit circle through -1; a Neimark-Sacker bifurcation where a complex pair does (a real
+multiplier through +1 is a fold, reported from dp/ds). Refinement (:func:`illinois`):
+the Illinois (modified regula falsi) method on a scalar indicator g(s) over a bracket
+s in [0, 1]; folds use g = dp/ds along the arc (each trial point solved by the
+corrector), multiplier crossings g = max|mu| - 1 with fixed-parameter Newton solves.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["classify", "illinois"]
+
+
+def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, float]]:
+    """Events between points a and b: (type, critical multiplier, linear estimate of the
+    bracket fraction s in [0, 1]). tp: dp/ds at each point; mu: multipliers or None."""
+    out = []
+    if np.sign(tp_a) != np.sign(tp_b) and tp_a != 0:
+        out.append(("fold", complex("nan"), tp_a / (tp_a - tp_b)))
+    if mu_a is None or mu_b is None:
+        return out
+    na, nb = int(np.sum(np.abs(mu_a) > 1)), int(np.sum(np.abs(mu_b) > 1))
+    if na == nb:
+        return out
+    grow = nb > na
+    crit_side, other = (mu_b, mu_a) if grow else (mu_a, mu_b)
+    for c in crit_side[np.abs(crit_side) > 1]:
+        c2 = other[int(np.argmin(np.abs(other - c)))]  # the multiplier on the other side that continues c
+        if abs(c2) > 1:
+            continue
+        if abs(c.imag) > 1e-6 * abs(c) and abs(c2.imag) > 1e-6 * abs(c2):
+            typ = "neimark-sacker"
+        elif c.real < 0:
+            typ = "period-doubling"
+        else:
+            continue
+        fa, fb = (abs(c2) - 1, abs(c) - 1) if grow else (abs(c) - 1, abs(c2) - 1)
+        out.append((typ, complex(c), fa / (fa - fb) if fa != fb else 0.5))
+        if typ == "neimark-sacker":
+            break  # one entry per complex pair
+    return out
+
+
+def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40):
+    """Root of a scalar indicator bracketed by a = (s_a, g_a, data_a), b = (s_b, g_b, data_b).
+
+    g(s, a, b) -> (g(s), data) or None when the trial point cannot be solved (then None is
+    returned); the brackets are passed so a trial can start from their data. Stops when
+    |g| < ftol or the bracket is shorter than stol; returns (s, data) of the last trial.
+    """
+    side = 0
+    s, data = None, None
+    for _ in range(max_iter):
+        (sa, fa, da), (sb, fb, db) = a, b
+        s = sa + fa * (sb - sa) / (fa - fb) if fa != fb else 0.5 * (sa + sb)
+        res = g(s, a, b)
+        if res is None:
+            return None
+        f, data = res
+        if abs(f) < ftol or abs(sb - sa) < stol:
+            break
+        if np.sign(f) == np.sign(fa):
+            a = (s, f, data)
+            if side == -1:
+                b = (sb, 0.5 * fb, db)
+            side = -1
+        else:
+            b = (s, f, data)
+            if side == 1:
+                a = (sa, 0.5 * fa, da)
+            side = 1
+    return s, data

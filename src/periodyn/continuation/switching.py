@@ -1,0 +1,74 @@
+"""Branch switching at a period-doubling point onto the period-2T branch."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..dae.fourier import real_coefficients
+from ..dae.ihb import IHBProblem
+from ..errors import InputError
+from ..spectra import fourier_coefficients, synthesize
+from ..timedomain import integrate, monodromy_matrix
+from .branch import Branch, SpecialPoint
+from .driver import continuation
+
+__all__ = ["switch_period_doubling"]
+
+
+def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *, amplitude: float = 1e-2,
+                           **kwargs) -> Branch:
+    """Follow the period-doubled (period 2T) branch born at a period-doubling ``point`` of
+    an IHB ``branch``, toward parameter ``p_stop``.
+
+    The T-periodic solution at the point is re-expressed with base frequency omega/2
+    (harmonics 2H, only even ones non-zero); the critical Floquet mode (eigenvector of
+    the multiplier near -1 of the monodromy of the orbit's linearization, integrated over
+    2T and mapped to q by the null-space basis) has only odd harmonics of omega/2 and is
+    orthogonal to that branch, so it is the initial tangent of the new branch (the PD
+    point is a pitchfork of the 2T problem). amplitude: relative size of the first step
+    along the mode. kwargs go to :func:`continuation`.
+    """
+    if point.type != "period-doubling":
+        raise InputError(f"point is a {point.type!r}, not a period-doubling point")
+    prob = branch.problem
+    if not isinstance(prob, IHBProblem):
+        raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
+    system = branch.options["system"]
+    k = point.index if abs(branch.parameter[point.index] - point.parameter) <= abs(
+        branch.parameter[point.index + 1] - point.parameter) else point.index + 1
+    name = branch.parameter_name
+    om = point.omega
+    P = branch.solutions[k].parameters if name is None else dict(branch.solutions[k].parameters,
+                                                                  **{name: point.parameter})
+    # the T-orbit exactly at the bifurcation point
+    Xpd = prob.newton(branch.unknowns[k], om, P, branch.options["tol"]).x
+    sol = prob.solution(Xpd, om, P, 0.0, 0)
+    H, H2 = prob.H, 2 * prob.H
+    cq = np.zeros((2 * H2 + 1, system.n), complex)  # harmonic l of omega -> harmonic 2l of omega/2
+    cl = np.zeros((2 * H2 + 1, system.m), complex)
+    cq[H2 + 2 * np.arange(-H, H + 1)] = sol.harmonics
+    cl[H2 + 2 * np.arange(-H, H + 1)] = sol.lambda_harmonics
+    prob2 = IHBProblem(system, H2, kwargs.pop("samples", None), 2 * prob.nu)
+    start = replace(sol, harmonics=cq, lambda_harmonics=cl, subharmonic=2 * prob.nu)
+    X2 = prob2.from_solution(start)
+    # critical Floquet mode: eigenvector of mu ~ -1, integrated over 2T to the 2T sample times
+    lin = prob.linearization(Xpd, om, P)
+    mu, V = np.linalg.eig(monodromy_matrix(lin.rheo))
+    y0 = V[:, int(np.argmin(np.abs(mu + 1)))].real
+    t2 = prob2.theta / (om / prob2.nu)
+    z = integrate(lin.rheo, y0, t2)[:, :lin.r]
+    basis = synthesize(fourier_coefficients(lin.basis), lin.rheo.omega * t2)
+    dq = np.einsum("pnr,pr->pn", basis, z)
+    dX = prob2.join(real_coefficients(dq, H2), np.zeros((prob2.L, system.m)))
+    scale_q = np.sqrt(np.mean(X2[: system.n * prob2.L] ** 2)) or 1.0
+    dX *= amplitude * scale_q * np.sqrt(system.n * prob2.L) / max(np.linalg.norm(dX), 1e-300)
+    tangent = np.concatenate([dX, [0.0]])
+    p_here = om if name is None else P[name]
+    omega_arg = (p_here, p_stop) if name is None else om
+    param_arg = None if name is None else (name, p_here, p_stop)
+    opts = {"stability": branch.options["stability"]} if "stability" in branch.options else {}
+    opts.update(kwargs)
+    return continuation(system, omega_arg, H2, "ihb", param_arg, initial=start, subharmonic=2 * prob.nu,
+                        samples=prob2.p, tangent=tangent, **opts)

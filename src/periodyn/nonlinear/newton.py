@@ -1,0 +1,97 @@
+"""The one Newton iteration of periodyn's non-linear solvers (IHB, shooting, consistent
+initial states, the continuation corrector).
+
+``newton(system_of_equations, x0, ...)`` with ``system_of_equations(x) -> (R, J)``; the
+linear solves go through a factory ``factor(J) -> solve(b)`` (default: SuperLU for sparse
+J, LAPACK LU for dense square J; least squares gives Gauss-Newton for non-square J).
+Convergence is measured in the max-norm of R. A failure raises ConvergenceError naming the
+residual, the iteration count and what to try; it is never returned.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import ConvergenceError
+
+__all__ = ["NewtonResult", "newton", "lu_factor", "least_squares_factor"]
+
+
+@dataclass(frozen=True, eq=False)
+class NewtonResult:
+    """Converged point x (N,); residual: max|R(x)|; iterations: Newton updates done;
+    jacobian: J at x; solve: factorization of the last J used for an update (None when
+    x0 already converged), reusable for a nearby linear solve (continuation tangent)."""
+
+    x: np.ndarray
+    residual: float
+    iterations: int
+    jacobian: object
+    solve: Callable | None
+
+
+def lu_factor(J) -> Callable:
+    """solve(b) for a square J: SuperLU when sparse, LAPACK LU when dense."""
+    if sp.issparse(J):
+        return spla.splu(sp.csc_matrix(J)).solve
+    with warnings.catch_warnings():  # an exactly zero pivot is an error here, not a warning
+        warnings.simplefilter("error", sla.LinAlgWarning)
+        lu = sla.lu_factor(J, check_finite=False)
+    return lambda b: sla.lu_solve(lu, b)
+
+
+def least_squares_factor(J) -> Callable:
+    """solve(b): minimum-norm least-squares solution (Gauss-Newton for m x n J)."""
+    return lambda b: np.linalg.lstsq(J, b, rcond=None)[0]
+
+
+def newton(equations: Callable, x0, *, tol: float, max_iter: int, factor: Callable = lu_factor,
+           residual: Callable | None = None, backtrack: int = 0, accept: float = 1.0,
+           label: str = "Newton", hint: str = "start closer to the solution") -> NewtonResult:
+    """Solve R(x) = 0 from x0.
+
+    equations(x) -> (R (N,), J); factor(J) -> solve(b); tol: max|R| to reach; max_iter:
+    updates allowed. Backtracking (``backtrack`` > 0 trial steps): a step is halved while
+    ``max|residual(x + s dx)| >= accept * max|R(x)|`` (``residual`` defaults to the first
+    output of ``equations``; a ConvergenceError of a trial counts as a rejection).
+    label/hint: what is being solved and what to try, for the error message.
+    """
+    resid = residual or (lambda x: equations(x)[0])
+    x = np.array(x0, dtype=float)
+    solve, rn = None, np.inf
+    for it in range(max_iter + 1):
+        R, J = equations(x)
+        rn = float(np.max(np.abs(R), initial=0.0))
+        if not np.isfinite(rn):
+            break
+        if rn <= tol:
+            return NewtonResult(x, rn, it, J, solve)
+        if it == max_iter:
+            break
+        try:
+            solve = factor(J)
+            dx = -solve(R)
+        except (RuntimeError, np.linalg.LinAlgError, ValueError, sla.LinAlgWarning) as exc:
+            raise ConvergenceError(f"{label}: singular Jacobian at iteration {it} (residual {rn:.3g}, {exc}); {hint}",
+                                   rn, it) from None
+        if not np.all(np.isfinite(dx)):
+            break
+        step = 1.0  # trial steps 1, 1/2, ..., 2^(1-backtrack); the last is taken when none is accepted
+        for k in range(backtrack):
+            try:
+                if float(np.max(np.abs(resid(x + step * dx)))) < accept * rn:
+                    break
+            except ConvergenceError:
+                pass
+            if k < backtrack - 1:
+                step *= 0.5
+        x = x + step * dx
+    raise ConvergenceError(f"{label} did not converge: residual {rn:.3g} > tol {tol:.1g} after {it} iterations; {hint}",
+                           rn, it)

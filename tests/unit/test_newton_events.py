@@ -1,0 +1,55 @@
+"""The one Newton and the one event classifier / root refinement."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from periodyn.continuation.events import classify, illinois
+from periodyn.errors import ConvergenceError
+from periodyn.nonlinear.newton import least_squares_factor, newton
+
+
+def test_newton_quadratic_convergence_dense_and_sparse():
+    """x^2 = 2 componentwise: converges to sqrt(2) with residual and iteration count reported."""
+    def eq(x):
+        return x * x - 2.0, np.diag(2 * x)
+
+    res = newton(eq, np.ones(3), tol=1e-14, max_iter=10)
+    np.testing.assert_allclose(res.x, np.sqrt(2), rtol=1e-15)
+    assert res.residual <= 1e-14 and 4 <= res.iterations <= 6
+    res_sp = newton(lambda x: (eq(x)[0], sp.csc_matrix(eq(x)[1])), np.ones(3), tol=1e-14, max_iter=10)
+    np.testing.assert_allclose(res_sp.x, res.x, rtol=0, atol=0)
+
+
+def test_gauss_newton_projection_and_failure_report():
+    """One equation in two unknowns (circle): minimum-norm steps land on it."""
+    res = newton(lambda x: (np.array([x @ x - 1.0]), 2 * x[None]), np.array([0.9, 0.3]), tol=1e-14, max_iter=20,
+                 factor=least_squares_factor)
+    assert abs(res.x @ res.x - 1.0) <= 1e-14
+    with pytest.raises(ConvergenceError, match="did not converge.*after 2 iterations; try this") as info:
+        newton(lambda x: (np.exp(x) + 1.0, np.diag(np.exp(x))), np.zeros(1), tol=1e-12, max_iter=2, hint="try this")
+    assert info.value.iterations == 2 and info.value.residual > 1.0
+    with pytest.raises(ConvergenceError, match="singular Jacobian"):
+        newton(lambda x: (np.ones(2), np.zeros((2, 2))), np.zeros(2), tol=1e-12, max_iter=3)
+
+
+def test_classifier_types():
+    inside = np.array([0.5, 0.2])
+    assert classify(0.3, -0.2, None, None)[0][0] == "fold"
+    pd = classify(1.0, 1.0, np.array([-0.9, 0.2]), np.array([-1.1, 0.2]))
+    assert [e[0] for e in pd] == ["period-doubling"] and abs(pd[0][2] - 0.5) < 1e-12
+    ns = classify(1.0, 1.0, np.array([0.9j, -0.9j]), np.array([1.1j, -1.1j]))
+    assert [e[0] for e in ns] == ["neimark-sacker"]
+    assert classify(1.0, 1.0, inside, inside) == []
+    assert classify(1.0, 1.0, np.array([0.9, 0.2]), np.array([1.1, 0.2])) == []  # +1: a fold, found from dp/ds
+
+
+def test_illinois_finds_the_root_of_a_bracketed_indicator():
+    calls = []
+
+    def g(s, a, b):
+        calls.append(s)
+        return np.cos(s) - s, s
+
+    s, data = illinois(g, (0.0, 1.0, None), (1.0, np.cos(1.0) - 1.0, None), ftol=1e-14, stol=1e-15)
+    assert abs(s - 0.7390851332151607) < 1e-13 and data == s and len(calls) < 15
