@@ -61,6 +61,8 @@ __all__ = ["SweepSpec", "SweepPlan", "load_sweep_file", "parse_sweep", "project_
 #: Speed units with a fixed factor to rad/s.
 FIXED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 _MAX_POINTS = 10_000_000
+#: Harmonics a sweep file may ask for: the Hill matrix has (2m+1)·2n rows per speed.
+MAX_HARMONICS = 1000
 
 
 def project_root() -> Path:
@@ -377,6 +379,11 @@ class SweepSpec:
     def plan(self, omega_range: tuple[float, float, int] | None = None) -> SweepPlan:
         """Build the model and convert the speeds to rad/s."""
         model = self.build()
+        samples = getattr(model, "samples", None)
+        if self.samples is None and isinstance(samples, int) and samples < 2 * self.harmonics + 1:
+            raise InputError(f"{self.source}: [sweep] harmonics: {self.harmonics} harmonics need at least "
+                             f"{2 * self.harmonics + 1} samples per period but {self.example} samples {samples}; "
+                             f"lower harmonics or add samples = {4 * self.harmonics + 1} to [sweep]")
         factor, reference = self.omega_scale(model)
         omega = self.omega_values(omega_range) * factor
         if self.grid:
@@ -448,7 +455,10 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
                       "num": check.integer(omega["num"], "[sweep] omega.num", 1)}
         if omega_spec["num"] > _MAX_POINTS:
             check.fail("[sweep] omega.num", f"{omega_spec['num']} speeds is more than {_MAX_POINTS}; split the sweep")
-    harmonics = check.integer(sweep["harmonics"], "[sweep] harmonics", 0)
+    harmonics = check.integer(sweep["harmonics"], "[sweep] harmonics", 1)
+    if harmonics > MAX_HARMONICS:
+        check.fail("[sweep] harmonics", f"{harmonics} harmonics is more than a sweep can hold (at most "
+                                        f"{MAX_HARMONICS}); 10-40 resolve the papers' examples")
     samples = check.integer(sweep["samples"], "[sweep] samples", 1) if "samples" in sweep else None
     if samples is not None and samples < 2 * harmonics + 1:
         check.fail("[sweep] samples", f"{samples} samples cannot resolve {harmonics} harmonics; "

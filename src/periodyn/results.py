@@ -131,6 +131,7 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
             ds = None
         if ds is not None and ds.attrs.get("sweep_file_text") == spec.text:
             return ds
+        out.unlink()  # made from another version of the sweep file: replaced below
     return sweep_file(spec, out=out, workers=workers, resume=True, progress=None)
 
 

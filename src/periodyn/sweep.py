@@ -211,6 +211,13 @@ class _Job:
         out = self.empty(len(indices))
         out["index"][:] = indices
         located = np.unravel_index(indices, self.shape)
+        with np.errstate(all="ignore"):  # overflow becomes a failed point with its reason (below)
+            self._solve_into(out, located)
+        out["message"] = out["message"].astype(str)
+        return out
+
+    def _solve_into(self, out: dict[str, np.ndarray], located: tuple[np.ndarray, ...]) -> None:
+        indices = out["index"]
         grid = np.stack(located[:-1], axis=1) if len(located) > 1 else np.zeros((len(indices), 0), dtype=np.int64)
         for key in np.unique(grid, axis=0):
             rows = np.nonzero((grid == key).all(axis=1))[0]
@@ -227,15 +234,33 @@ class _Job:
                                  "other outputs or coordinates than at the first point; every grid point must have "
                                  "the same outputs and coordinates")
             solved = batch.message == ""
+            nonfinite = _nonfinite(batch, self.stability)
+            nonfinite[~solved] = ""  # a failed point keeps the reason it failed
+            out["message"][rows] = np.where(nonfinite != "", nonfinite, batch.message)
+            solved &= nonfinite == ""
             for name, column in (("amplitude", batch.amplitude), ("mean", batch.mean),
                                  ("harmonics", batch.output_harmonics), ("residual", batch.residual),
                                  ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
                                  ("multipliers", batch.multipliers), ("stable", batch.stable)):
                 out[name][rows[solved]] = column[solved]
             out["status"][rows[solved]] = STATUS_SOLVED
-            out["message"][rows] = batch.message
-        out["message"] = out["message"].astype(str)
-        return out
+
+
+_CHECKED = ("amplitude", "mean", "output_harmonics", "residual")
+_CHECKED_STABILITY = ("exponents", "multipliers", "max_real")
+
+
+def _nonfinite(batch: SpeedBatch, stability: bool) -> np.ndarray:
+    """Per speed of ``batch``: '' where every number of the result is finite, else the
+    reason naming the quantities that are not (the point is then a failed point)."""
+    names = _CHECKED + (_CHECKED_STABILITY if stability else ())
+    bad = {name: ~np.isfinite(getattr(batch, name)).reshape(len(batch), -1).any(axis=1) for name in names}
+    reasons = np.full(len(batch), "", dtype=object)
+    for i in np.flatnonzero(np.any(list(bad.values()), axis=0)):
+        which = ", ".join(name for name in names if bad[name][i])
+        reasons[i] = (f"non-finite result ({which}) at omega = {batch.omega[i]:.6g} rad/s: the model's "
+                      "coefficients or the solution overflow; check the model parameters (sizes, units)")
+    return reasons
 
 
 # ----------------------------------------------------------------------------- backends
@@ -244,9 +269,28 @@ _DASK_JOBS: dict[str, _Job] = {}
 
 
 def _limit_threads() -> None:
+    """One BLAS/OpenMP and one Numba thread in this (worker) process from now on."""
     import numba
+    from threadpoolctl import threadpool_limits
 
+    threadpool_limits(1)
     numba.set_num_threads(1)
+
+
+@contextlib.contextmanager
+def _one_thread() -> Iterator[None]:
+    """One BLAS/OpenMP and one Numba thread inside the block, as in the workers, so the
+    serial sweep computes every point exactly as a worker process does."""
+    import numba
+    from threadpoolctl import threadpool_limits
+
+    numba_threads = numba.get_num_threads()
+    with threadpool_limits(1):
+        numba.set_num_threads(1)
+        try:
+            yield
+        finally:
+            numba.set_num_threads(numba_threads)
 
 
 def _exit_with_parent() -> None:
@@ -305,7 +349,9 @@ def _worker_environment() -> Iterator[None]:
 
 def _run_serial(job: _Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
     for chunk in chunks:
-        yield job.solve(chunk)
+        with _one_thread():
+            result = job.solve(chunk)
+        yield result
 
 
 def _process_context():
@@ -589,7 +635,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     """
     started = time.perf_counter()
     w = check_speeds(omega)
-    m = _check_int("harmonics", harmonics, 0)
+    m = _check_int("harmonics", harmonics, 1)
     p = None if samples is None else _check_int("samples", samples, 1)
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; choose one of {METHODS}")
@@ -599,7 +645,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     grid_names, grid_values = _check_grid(model, parameters)
     source = _ModelSource(model, grid_names, grid_values, p)
     first = (0,) * len(grid_names)
-    probe = source.system(first, float(w[0]))
+    with np.errstate(all="ignore"):  # an overflowing model gives failed points, reported per point
+        probe = source.system(first, float(w[0]))
     if reference is None:
         refs = reference_frequencies(source.model_at(first))
         reference = next(iter(refs.items()), None)
@@ -619,8 +666,12 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         parts = out.with_name(out.name + ".parts")
         if resume and out.is_file() and not parts.exists():
             finished = load(out)
-            if finished.attrs.get("fingerprint") == fingerprint:
-                return finished
+            if finished.attrs.get("fingerprint") != fingerprint:
+                raise InputError(f"{out} is a finished result made with other settings (model, speeds, harmonics, "
+                                 "samples, stability or method), and resuming would overwrite it; rerun with "
+                                 "the settings it was made with, give another --out (out=) file, or drop "
+                                 "--resume (resume=False) to replace it")
+            return finished
         checkpoint = _Checkpoint(out, fingerprint, resume)
         for chunk in checkpoint.chunks():
             collected.add(chunk)

@@ -106,7 +106,7 @@ def test_parameter_grid_over_builder_keywords():
     [
         ({"omega": [0.0, 1.0]}, "positive finite speed"),
         ({"omega": [[1.0, 2.0]]}, "1-D"),
-        ({"harmonics": -1}, "harmonics must be an integer >= 0"),
+        ({"harmonics": -1}, "harmonics must be an integer >= 1"),
         ({"samples": 0}, "samples must be an integer >= 1"),
         ({"method": "fast"}, "unknown method 'fast'"),
         ({"workers": -2}, "workers must be an integer >= 0"),

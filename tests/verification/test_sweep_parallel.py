@@ -118,3 +118,20 @@ def test_script_without_main_guard_runs_workers_once(tmp_path):
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.count("script body ran") == 1 and "stable points: 6" in run.stdout
+
+
+SHIPPED = sorted(p.stem for p in (Path(__file__).resolve().parents[2] / "sweeps").glob("*.toml")
+                 if not p.stem.startswith("dae_"))
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_serial_and_two_workers_bit_identical_on_shipped_sweeps(name):
+    """Each shipped sweep file at 12 speeds of its range: the serial sweep (in this process,
+    where BLAS would otherwise run several threads) equals two worker processes bit for bit."""
+    spec = load_sweep_file(Path(__file__).resolve().parents[2] / "sweeps" / f"{name}.toml")
+    speeds = spec.omega_values()
+    omega = (float(speeds.min()), float(speeds.max()), 12)
+    serial = sweep_file(spec, omega=omega, workers=1, progress=False)
+    parallel = sweep_file(spec, omega=omega, workers=2, chunk_size=3, progress=False)
+    assert parallel.attrs["backend"] == "processes"
+    xr.testing.assert_identical(serial.drop_attrs(), parallel.drop_attrs())
