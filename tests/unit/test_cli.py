@@ -31,7 +31,7 @@ def project(tmp_path, monkeypatch):
     (tmp_path / "figures").mkdir()
     (tmp_path / "figures" / "fig9_tiny.py").write_text(textwrap.dedent("""
         from periodyn.plotting import plot_sweep, save_figure
-        from periodyn.results import ensure
+        from periodyn.config import ensure
 
         def main(out_dir):
             return [save_figure(plot_sweep(ensure("tiny")), out_dir / "fig9_tiny.png")]

@@ -1,4 +1,4 @@
-"""Result files: netCDF round trip, readable without periodyn, and results.ensure."""
+"""Result files: netCDF round trip, readable without periodyn, and config.ensure."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import xarray as xr
 
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
-from periodyn.results import ensure, load, save
+from periodyn.config import ensure
+from periodyn.results import load, save
 from periodyn.sweep import sweep
 
 SWEEP_FILE = """

@@ -16,7 +16,7 @@ import xarray as xr
 
 from periodyn.config import load_sweep_file
 from periodyn.examples import pendulum
-from periodyn.sweep import sweep, sweep_file
+from periodyn.sweep import ExecutionOptions, sweep, sweep_file
 
 KILL_SWEEP = """
 description = "sweep that is killed mid-run by the test"
@@ -93,14 +93,14 @@ def test_dask_cluster_address_matches_serial(small):
 
     model, omega, serial = small
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        ds = sweep(model, omega, 5, scheduler=cluster.scheduler_address, chunk_size=4, progress=False)
+        ds = sweep(model, omega, 5, execution=ExecutionOptions(cluster.scheduler_address, 4), progress=False)
     assert ds.attrs["backend"] == "dask"
     xr.testing.assert_identical(ds.drop_attrs(), serial)
 
 
 def test_dask_local_cluster_matches_serial(small):
     model, omega, serial = small
-    ds = sweep(model, omega, 5, scheduler="local", workers=2, chunk_size=4, progress=False)
+    ds = sweep(model, omega, 5, workers=2, execution=ExecutionOptions("local", 4), progress=False)
     xr.testing.assert_identical(ds.drop_attrs(), serial)
 
 
@@ -110,9 +110,9 @@ def test_script_without_main_guard_runs_workers_once(tmp_path):
     script.write_text(
         "import numpy as np\n"
         "from periodyn.examples import pendulum\n"
-        "from periodyn.sweep import sweep\n"
+        "from periodyn.sweep import ExecutionOptions, sweep\n"
         "print('script body ran', flush=True)\n"
-        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2, chunk_size=2,\n"
+        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2, execution=ExecutionOptions(chunk_size=2),\n"
         "           progress=False)\n"
         "print('stable points:', int(ds['stable'].sum()), flush=True)\n")
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
