@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
@@ -32,6 +33,7 @@ from .engine.checkpoint import Checkpoint, Collected, fingerprint, model_identit
 from .engine.job import Job, ModelSource, reference_frequencies
 from .engine.options import ExecutionOptions, OutputOptions, check_int
 from .engine.threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, auto_workers
+from .engine.warmup import COMPILE_NOTE, kernels_cached
 from .errors import InputError
 from .hill import METHODS
 from .progress import Progress
@@ -145,6 +147,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     size = execution.chunk_size or max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
     chunks = split(pending, size)
 
+    if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
+        print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
     with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
         for chunk in BACKENDS[backend](job, chunks, workers, execution.scheduler):
             collected.add(chunk)

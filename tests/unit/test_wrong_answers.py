@@ -98,3 +98,26 @@ def test_sweep_file_harmonics_limit_is_named_when_loading(tmp_path):
     path.write_text(sweep_text(harmonics=-1))
     with pytest.raises(InputError, match=r"h\.toml: \[sweep\] harmonics"):
         load_sweep_file(path)
+
+
+def test_a_convergence_error_of_a_speed_batch_fails_only_its_own_speed(monkeypatch):
+    """A solver that raises for one speed of a chunk: that speed is a failed point with the
+    solver's message, the other speeds of the chunk are solved as without it."""
+    from periodyn.analysis import SpeedSolver
+    from periodyn.errors import ConvergenceError
+
+    model = pendulum(samples=24)
+    omega = W0 * np.array([0.5, 0.7, 1.2])
+    reference = sweep(model, omega, 4, progress=False)
+    solve_many = SpeedSolver.solve_many
+
+    def failing(self, omegas):
+        if np.any(np.isclose(omegas, omega[1])):
+            raise ConvergenceError("Newton did not converge (residual 1e-2 after 30 iterations)")
+        return solve_many(self, omegas)
+
+    monkeypatch.setattr(SpeedSolver, "solve_many", failing)
+    ds = sweep(model, omega, 4, progress=False)
+    assert list(ds["status"].values) == [0, STATUS_FAILED, 0]
+    assert "Newton did not converge" in str(ds["message"].values[1])
+    np.testing.assert_array_equal(ds["amplitude"].values[[0, 2]], reference["amplitude"].values[[0, 2]])

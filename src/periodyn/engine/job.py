@@ -150,29 +150,42 @@ class Job:
         grid = np.stack(located[:-1], axis=1) if len(located) > 1 else np.zeros((len(indices), 0), dtype=np.int64)
         for key in np.unique(grid, axis=0):
             rows = np.nonzero((grid == key).all(axis=1))[0]
-            grid_index = tuple(int(k) for k in key)
-            try:
-                batch = self.batch(grid_index, self.omega[located[-1][rows]])
-            except InputError as exc:
-                if not self.source.grid_names:
-                    raise
-                raise InputError(f"{exc} ({describe(self.source.parameters(grid_index))})") from None
-            if (batch.output_harmonics.shape[1:] != out["harmonics"].shape[1:]
-                    or batch.exponents.shape[1:] != (self.n_exponents,)):
-                raise InputError(f"the model at {describe(self.source.parameters(grid_index))} has "
-                                 "other outputs or coordinates than at the first point; every grid point must have "
-                                 "the same outputs and coordinates")
-            solved = batch.message == ""
-            nonfinite = _nonfinite(batch, self.stability)
-            nonfinite[~solved] = ""  # a failed point keeps the reason it failed
-            out["message"][rows] = np.where(nonfinite != "", nonfinite, batch.message)
-            solved &= nonfinite == ""
-            for name, column in (("amplitude", batch.amplitude), ("mean", batch.mean),
-                                 ("harmonics", batch.output_harmonics), ("residual", batch.residual),
-                                 ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
-                                 ("multipliers", batch.multipliers), ("stable", batch.stable)):
-                out[name][rows[solved]] = column[solved]
-            out["status"][rows[solved]] = STATUS_SOLVED
+            self._solve_rows(out, tuple(int(k) for k in key), rows, located[-1][rows])
+
+    def _solve_rows(self, out: dict[str, np.ndarray], grid_index: tuple[int, ...], rows: np.ndarray,
+                    speeds: np.ndarray) -> None:
+        """Points ``rows`` of ``out``: speeds (indices into omega) at one grid point, solved
+        together; a ConvergenceError of the batch is retried speed by speed, so that it
+        fails only the speeds it belongs to."""
+        try:
+            batch = self.batch(grid_index, self.omega[speeds])
+        except InputError as exc:
+            if not self.source.grid_names:
+                raise
+            raise InputError(f"{exc} ({describe(self.source.parameters(grid_index))})") from None
+        except ConvergenceError as exc:
+            if len(rows) > 1:
+                for row, speed in zip(rows, speeds):
+                    self._solve_rows(out, grid_index, row[None], speed[None])
+            else:
+                out["message"][rows] = str(exc) or type(exc).__name__
+            return
+        if (batch.output_harmonics.shape[1:] != out["harmonics"].shape[1:]
+                or batch.exponents.shape[1:] != (self.n_exponents,)):
+            raise InputError(f"the model at {describe(self.source.parameters(grid_index))} has "
+                             "other outputs or coordinates than at the first point; every grid point must have "
+                             "the same outputs and coordinates")
+        solved = batch.message == ""
+        nonfinite = _nonfinite(batch, self.stability)
+        nonfinite[~solved] = ""  # a failed point keeps the reason it failed
+        out["message"][rows] = np.where(nonfinite != "", nonfinite, batch.message)
+        solved &= nonfinite == ""
+        for name, column in (("amplitude", batch.amplitude), ("mean", batch.mean),
+                             ("harmonics", batch.output_harmonics), ("residual", batch.residual),
+                             ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
+                             ("multipliers", batch.multipliers), ("stable", batch.stable)):
+            out[name][rows[solved]] = column[solved]
+        out["status"][rows[solved]] = STATUS_SOLVED
 
 
 _CHECKED = ("amplitude", "mean", "output_harmonics", "residual")
