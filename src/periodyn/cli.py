@@ -144,8 +144,8 @@ def _cmd_sweep(args) -> int:
                     resume=args.resume, progress=False if args.quiet else None, chunk_size=args.chunk_size)
     elapsed = time.perf_counter() - start
     if args.plot:
-        save_figure(plot_sweep(ds, title=f"{spec.name}: {spec.description.strip().splitlines()[0]}"
-                               if spec.description.strip() else spec.name), args.plot)
+        description = " ".join(spec.description.split())
+        save_figure(plot_sweep(ds, title=f"{spec.name}: {description}" if description else spec.name), args.plot)
     if not args.quiet:
         print("\n".join(_summary(ds, out, elapsed)))
         if args.plot:
