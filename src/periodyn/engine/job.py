@@ -155,20 +155,24 @@ class Job:
     def _solve_rows(self, out: dict[str, np.ndarray], grid_index: tuple[int, ...], rows: np.ndarray,
                     speeds: np.ndarray) -> None:
         """Points ``rows`` of ``out``: speeds (indices into omega) at one grid point, solved
-        together; a ConvergenceError of the batch is retried speed by speed, so that it
-        fails only the speeds it belongs to."""
+        together; a ConvergenceError (or an arithmetic or LAPACK breakdown) of the batch is
+        retried speed by speed, so that it fails only the speeds it belongs to."""
         try:
             batch = self.batch(grid_index, self.omega[speeds])
         except InputError as exc:
             if not self.source.grid_names:
                 raise
             raise InputError(f"{exc} ({describe(self.source.parameters(grid_index))})") from None
-        except ConvergenceError as exc:
+        except (ConvergenceError, ArithmeticError, np.linalg.LinAlgError) as exc:
             if len(rows) > 1:
                 for row, speed in zip(rows, speeds):
                     self._solve_rows(out, grid_index, row[None], speed[None])
-            else:
+            elif isinstance(exc, ConvergenceError):
                 out["message"][rows] = str(exc) or type(exc).__name__
+            else:  # a numerical breakdown on overflowing or degenerate coefficients
+                out["message"][rows] = (f"numerical failure ({type(exc).__name__}: {exc}) at omega = "
+                                        f"{self.omega[speeds[0]]:.6g} rad/s; check the model parameters "
+                                        "(sizes, units)")
             return
         if (batch.output_harmonics.shape[1:] != out["harmonics"].shape[1:]
                 or batch.exponents.shape[1:] != (self.n_exponents,)):
