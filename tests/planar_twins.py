@@ -129,7 +129,6 @@ def motion_twin(model, x, qdot, qddot):
     beams (the slider-crank); returns Mb, Cb, Kb, fd."""
     arr = model.arrays
     n = x.size
-    rows = []
     tensors = []
     J = np.zeros((n, n))
     for i in np.nonzero(arr.coord_row >= 0)[0]:

@@ -50,7 +50,7 @@ import numpy as np
 import xarray as xr
 
 from . import examples
-from .config_checks import MAX_POINTS, Checker, kind
+from .config_checks import MAX_POINTS, Checker
 from .config_elements import MODEL_FORM_KEYS, check_element_form, element_model
 from .engine.job import reference_frequencies
 from .errors import InputError

@@ -65,13 +65,13 @@ def _check_grid(model, parameters) -> tuple[tuple[str, ...], tuple[np.ndarray, .
     return tuple(names), tuple(values)
 
 
-def _finished(out: Path, print_: str, resume: bool) -> xr.Dataset | None:
+def _finished(out: Path, key: str, resume: bool) -> xr.Dataset | None:
     """The finished result at ``out`` when resuming a sweep with the same fingerprint;
     refuses (InputError) one made with other settings rather than overwrite it."""
     if not (resume and out.is_file() and not out.with_name(out.name + ".parts").exists()):
         return None
     finished = load(out)
-    if finished.attrs.get("fingerprint") != print_:
+    if finished.attrs.get("fingerprint") != key:
         raise InputError(f"{out} is a finished result made with other settings (model, speeds, harmonics, "
                          "samples, stability or method), and resuming would overwrite it; rerun with "
                          "the settings it was made with, give another --out (out=) file, or drop "
@@ -136,11 +136,11 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     collected.arrays["index"][:] = np.arange(total)
     if out is not None:
         out = Path(out)
-        print_ = fingerprint(job, options, output.sweep_file_text or model_identity(model))
-        finished = _finished(out, print_, resume)
+        key = fingerprint(job, options, output.sweep_file_text or model_identity(model))
+        finished = _finished(out, key, resume)
         if finished is not None:
             return finished
-        checkpoint = Checkpoint(out, print_, resume)
+        checkpoint = Checkpoint(out, key, resume)
         for chunk in checkpoint.chunks():
             collected.add(chunk)
     pending = np.flatnonzero(~collected.done)
