@@ -11,6 +11,8 @@ xarray or Dask.
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 
 __version__ = "0.1.0"
 
@@ -47,3 +49,17 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted([*globals(), *__all__])
+
+
+class _Package(types.ModuleType):
+    """The package module: importing a submodule named like the function it defines
+    (sweep, transient, continuation) must not replace that function by the submodule;
+    the submodule stays reachable as ``sys.modules["periodyn.<name>"]``."""
+
+    def __setattr__(self, name: str, value) -> None:
+        if _LAZY.get(name) == name and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

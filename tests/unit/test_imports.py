@@ -122,3 +122,16 @@ def test_public_names_resolve_lazily():
     assert periodyn.sweep.__module__ == "periodyn.sweep"
     with pytest.raises(AttributeError, match="no attribute 'nonexistent'"):
         periodyn.nonexistent
+
+
+def test_importing_a_submodule_keeps_the_function_of_its_name():
+    """periodyn.sweep / .transient / .continuation stay the functions after their modules
+    are imported (as they were when __init__ imported everything)."""
+    code = ("import periodyn.sweep, periodyn.transient, periodyn.continuation, sys, types\n"
+            "import periodyn\n"
+            "for name in ('sweep', 'transient', 'continuation'):\n"
+            "    assert callable(getattr(periodyn, name)), name\n"
+            "    assert isinstance(sys.modules['periodyn.' + name], types.ModuleType)\n"
+            "from periodyn.sweep import sweep_file\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
