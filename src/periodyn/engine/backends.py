@@ -64,10 +64,9 @@ def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> di
 
 
 def run_serial(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
-    for chunk in chunks:
-        with one_thread():
-            result = job.solve(chunk)
-        yield result
+    with one_thread():  # for the whole run: entering costs a scan of the loaded libraries
+        for chunk in chunks:
+            yield job.solve(chunk)
 
 
 def _process_context():
