@@ -199,3 +199,22 @@ def test_bench_linearize_runs_without_the_test_extras(tmp_path):
                          capture_output=True, text=True, env=env, timeout=300)
     assert run.returncode == 0, run.stderr
     assert "usage" in run.stdout
+
+
+def test_a_cold_kernel_cache_is_announced_before_the_sweep(project, capsys, monkeypatch):
+    import importlib
+
+    engine = importlib.import_module("periodyn.sweep")
+    monkeypatch.setattr(engine, "kernels_cached", lambda: False)
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "c.nc", "--workers", "1"]) == 0
+    assert "compiling the numerical kernels on first use" in capsys.readouterr().err
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "c.nc", "--workers", "1", "-q"]) == 0
+    assert capsys.readouterr().err == ""  # --quiet says nothing
+
+
+def test_kernels_cached_sees_the_cache_beside_the_sources():
+    from periodyn.engine.warmup import kernels_cached, warm_up
+
+    with open(os.devnull, "w") as sink:
+        warm_up(sink)
+    assert kernels_cached()
