@@ -106,7 +106,7 @@ def plot_sweep(ds: xr.Dataset, title: str | None = None):
         labels.append("unstable band (max Re λ ≥ 0 or failed)")
     bottom.axhline(0.0, color="k", lw=0.7)
     unit = output_unit(ds)
-    top.set_ylabel("amplitude, half peak-to-peak" + (f" [{unit}]" if unit else ""))
+    top.set_ylabel("amplitude, half peak-to-peak" + (f" [{'-' if unit == '1' else unit}]" if unit else ""))
     bottom.set_ylabel("max Re λ [1/s]")
     bottom.set_xlabel(xlabel)
     fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 4), fontsize=8)
