@@ -34,6 +34,7 @@ from periodyn.config import load_sweep_file  # noqa: E402
 from periodyn.results import load, save  # noqa: E402
 
 engine = importlib.import_module("periodyn.sweep")  # the module (periodyn.sweep may be the re-exported function)
+from periodyn.engine.checkpoint import Checkpoint  # noqa: E402
 
 SWEEP_FILE = Path(__file__).resolve().parents[1] / "sweeps" / "pendulum.toml"
 
@@ -62,7 +63,7 @@ def run_command(n: int, workers: int, out: Path) -> float:
 def timed_writes():
     """Wrap checkpoint and result-file writes to add up the time spent in them."""
     spent = {"chunks": 0.0, "merge": 0.0}
-    write, finish = engine._Checkpoint.write, engine._Checkpoint.finish
+    write, finish = Checkpoint.write, Checkpoint.finish
 
     def timed_write(self, chunk):
         t0 = time.perf_counter()
@@ -74,7 +75,7 @@ def timed_writes():
         finish(self, ds)
         spent["merge"] += time.perf_counter() - t0
 
-    engine._Checkpoint.write, engine._Checkpoint.finish = timed_write, timed_finish
+    Checkpoint.write, Checkpoint.finish = timed_write, timed_finish
     return spent
 
 

@@ -14,12 +14,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-import periodyn.results  # noqa: E402
+import periodyn.config  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.results.ensure("pendulum")
+    ds = periodyn.config.ensure("pendulum")
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values
     keep = r <= 0.9

@@ -13,13 +13,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-import periodyn.results  # noqa: E402
+import periodyn.config  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 from periodyn.boundaries import stability_boundaries  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.results.ensure("pendulum")
+    ds = periodyn.config.ensure("pendulum")
     w0 = float(ds["omega_over_omega0"].attrs["reference_frequency"])
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values
@@ -28,7 +28,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     model = periodyn.examples.pendulum(samples=int(ds.attrs.get("samples", 64)))
     edges = stability_boundaries(model.at, np.linspace(0.5, 1.4, 19) * w0, int(ds.attrs.get("harmonics", 12)))
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig, ax = plt.subplots(figsize=(6.5, 4.6), layout="constrained")
     ax.semilogy(r, np.where(stable, amp, np.nan), "k-", lw=1.2, label=r"$\Delta\hat\varphi$ (stable)")
     ax.semilogy(r, np.where(stable, np.nan, amp), color="0.6", lw=0.8, label=r"$\Delta\hat\varphi$ (unstable)")
     ax.set_xlabel(r"$\omega/\omega_0$")
@@ -43,8 +43,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         ax.text(b.omega / w0, ax.get_ylim()[1], f"{b.omega / w0:.4f}\n{b.kind}", fontsize=6, ha="center",
                 va="bottom", color="r")
     lines = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
-    ax.legend(lines, [ln.get_label() for ln in lines], loc="lower right", fontsize=8)
-    fig.tight_layout()
+    fig.legend(lines, [ln.get_label() for ln in lines], loc="outside lower center", ncols=3, fontsize=8)
     return [save_figure(fig, out_dir / "fig03_pendulum_stability.png")]
 
 

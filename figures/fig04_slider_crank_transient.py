@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-import periodyn.results  # noqa: E402
+import periodyn.config  # noqa: E402
 from periodyn.examples.slider_crank import slider_crank  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
@@ -28,7 +28,7 @@ DAMPING = 0.02
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.results.ensure("slider_crank").sel(damping=DAMPING, omega=OMEGA, output="midpoint_deflection")
+    ds = periodyn.config.ensure("slider_crank").sel(damping=DAMPING, omega=OMEGA, output="midpoint_deflection")
     stored = ds["harmonics"].values  # (2m+1,), l = -m..m
     t = np.linspace(0.0, 2 * np.pi / OMEGA, 401)
     theta = OMEGA * t

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.results  # noqa: E402
+import periodyn.config  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
@@ -26,7 +26,7 @@ def max_deflection(harmonics: np.ndarray, indices: np.ndarray) -> np.ndarray:
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.results.ensure("slider_crank")
+    ds = periodyn.config.ensure("slider_crank")
     w1 = float(ds["omega_over_omega1"].attrs["reference_frequency"])
     omega = ds["omega"].values
     fig, ax = plt.subplots(figsize=(6, 3.5))

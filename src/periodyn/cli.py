@@ -1,4 +1,4 @@
-"""Command line: ``periodyn sweep | figures | bench | info`` (see ``periodyn --help``).
+"""Command line: ``periodyn sweep | figures | bench | warmup | info`` (see ``periodyn --help``).
 
 Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input (a message
 naming the problem, never a traceback), 130 interrupted (finished chunks are kept).
@@ -7,7 +7,6 @@ naming the problem, never a traceback), 130 interrupted (finished chunks are kep
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import platform
 import subprocess
@@ -15,16 +14,11 @@ import sys
 import time
 from pathlib import Path
 
-import numba
-import numpy as np
-import pyfftw
-import pyfftw.config
-
-from .config import load_sweep_file, project_root
+from .engine.threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores
 from .errors import ConvergenceError, InputError
-from .plotting import plot_sweep, save_figure, speed_axis, unstable_spans
-from .results import package_versions
-from .sweep import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, sweep_file
+
+# Heavy modules (numpy, numba, pyfftw, xarray, matplotlib, the solvers) are imported by the
+# commands that use them, so `periodyn --help` starts in a fraction of a second.
 
 __all__ = ["main", "build_parser"]
 
@@ -34,6 +28,7 @@ _EPILOG = """examples:
   periodyn sweep sweeps/pendulum.toml --resume          # continue an interrupted sweep
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
+  periodyn warmup                                       # compile the kernels once after install
   periodyn info
 """
 
@@ -105,6 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                               "(default: all)")
     bn.add_argument("--list", action="store_true", help="list the benchmarks and exit")
 
+    commands.add_parser("warmup", help="compile the numerical kernels into Numba's cache (once per install)",
+                        description="Compile (or load) every kernel family once, one progress line per step, so "
+                                    "that the first sweep and its worker processes start from a warm cache.")
     commands.add_parser("info", help="versions, cores, threads, BLAS and FFTW",
                         description="Print package versions, CPU cores, thread settings, BLAS and FFTW details.")
     return parser
@@ -112,9 +110,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 # ----------------------------------------------------------------------------- sweep
 def _summary(ds, out: Path, elapsed: float) -> list[str]:
+    from .plotting import speed_axis, unstable_spans
+
     points = int(ds.attrs["points"])
-    lines = [f"{ds.attrs['model']}: {points} points, {ds.attrs['failed_points']} failed, {elapsed:.1f} s "
-             f"({points / max(elapsed, 1e-9):.0f} points/s); wrote {out}"]
+    computed = int(ds.attrs.get("points_computed", points))
+    restored = f", {points - computed} restored from checkpoints" if computed < points else ""
+    lines = [f"{ds.attrs['model']}: {points} points{restored}, {ds.attrs['failed_points']} failed, {elapsed:.1f} s "
+             f"({computed / max(elapsed, 1e-9):.0f} points/s computed); wrote {out}"]
     if ds["stable"].ndim == 1 and int(ds.attrs.get("stability", 1)):
         x, label = speed_axis(ds)
         spans = unstable_spans(x, ds["stable"].values)
@@ -124,18 +126,26 @@ def _summary(ds, out: Path, elapsed: float) -> list[str]:
 
 
 def _cmd_sweep(args) -> int:
+    from .config import load_sweep_file
+    from .plotting import plot_sweep, save_figure
+    from .sweep import sweep_file
+
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
     workers = args.workers
     if workers == "auto" and args.scheduler:
         workers = available_cores()
+    speeds = spec.omega_values(args.omega)
+    if len(speeds) > 1 and speeds[0] > speeds[-1] and not args.quiet:
+        print(f"note: the speeds run down, from {speeds[0]:g} to {speeds[-1]:g} {spec.omega_unit}; the results "
+              "keep that descending order", file=sys.stderr)
     start = time.perf_counter()
     ds = sweep_file(spec, omega=args.omega, out=out, workers=workers, scheduler=args.scheduler,
                     resume=args.resume, progress=False if args.quiet else None, chunk_size=args.chunk_size)
     elapsed = time.perf_counter() - start
     if args.plot:
-        save_figure(plot_sweep(ds, title=f"{spec.name}: {spec.description.strip().splitlines()[0]}"
-                               if spec.description.strip() else spec.name), args.plot)
+        description = " ".join(spec.description.split())
+        save_figure(plot_sweep(ds, title=f"{spec.name}: {description}" if description else spec.name), args.plot)
     if not args.quiet:
         print("\n".join(_summary(ds, out, elapsed)))
         if args.plot:
@@ -160,6 +170,10 @@ def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[
 
 
 def _cmd_figures(args) -> int:
+    import importlib.util
+
+    from .config import project_root
+
     root = project_root()
     scripts = _scripts(root / "figures", "fig*.py", "fig", args.names)
     if args.list or not scripts:
@@ -170,8 +184,9 @@ def _cmd_figures(args) -> int:
     previous = Path.cwd()
     os.chdir(root)  # scripts find sweeps/ and results/ from the project root
     try:
-        for script in scripts:
+        for i, script in enumerate(scripts, 1):
             start = time.perf_counter()
+            print(f"[{i}/{len(scripts)}] {script.stem} ...", flush=True)
             try:
                 spec = importlib.util.spec_from_file_location(f"periodyn_figure_{script.stem}", script)
                 module = importlib.util.module_from_spec(spec)
@@ -181,7 +196,8 @@ def _cmd_figures(args) -> int:
                 failed.append(script.stem)
                 print(f"{script.stem}: FAILED ({type(exc).__name__}: {exc})", file=sys.stderr)
                 continue
-            print(f"{script.stem} ({time.perf_counter() - start:.1f} s): " + ", ".join(str(p) for p in paths))
+            print(f"[{i}/{len(scripts)}] {script.stem} ({time.perf_counter() - start:.1f} s): "
+                  + ", ".join(str(p) for p in paths), flush=True)
     finally:
         os.chdir(previous)
     if failed:
@@ -191,6 +207,8 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_bench(args) -> int:
+    from .config import project_root
+
     root = project_root()
     scripts = _scripts(root / "benchmarks", "bench_*.py", "bench_", args.names)
     if args.list or not scripts:
@@ -203,7 +221,22 @@ def _cmd_bench(args) -> int:
     return 1 if status else 0
 
 
+def _cmd_warmup(args) -> int:
+    from .engine.warmup import warm_up
+
+    seconds = warm_up(sys.stdout)
+    print(f"kernels compiled and cached in {seconds:.1f} s; sweeps and their workers now start warm")
+    return 0
+
+
 def _cmd_info(args) -> int:
+    import numba
+    import numpy as np
+    import pyfftw
+    import pyfftw.config
+
+    from .results import package_versions
+
     print("periodyn environment")
     for name, version in package_versions().items():
         print(f"  {name:12s} {version}")
@@ -222,7 +255,8 @@ def _cmd_info(args) -> int:
     return 0
 
 
-_COMMANDS = {"sweep": _cmd_sweep, "figures": _cmd_figures, "bench": _cmd_bench, "info": _cmd_info}
+_COMMANDS = {"sweep": _cmd_sweep, "figures": _cmd_figures, "bench": _cmd_bench, "warmup": _cmd_warmup,
+             "info": _cmd_info}
 
 
 def main(argv: list[str] | None = None) -> int:

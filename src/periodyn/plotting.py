@@ -14,19 +14,29 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["speed_axis", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure"]
+__all__ = ["speed_axis", "output_unit", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure"]
 
 _MAX_CURVES = 12
 
 
 def speed_axis(ds: xr.Dataset) -> tuple[np.ndarray, str]:
-    """(speeds, axis label): omega/reference when the sweep has a reference frequency,
-    else omega in rad/s."""
+    """(speeds, axis label): omega/reference when the sweep has a reference frequency
+    (its value in rad/s in the label), else omega in rad/s."""
     for name in ds.coords:
         if str(name).startswith("omega_over_"):
-            reference = str(name)[len("omega_over_"):]
-            return ds[name].values, f"ω / {reference.replace('omega', 'ω', 1)}"
+            reference = str(name)[len("omega_over_"):].replace("omega", "ω", 1)
+            value = ds[name].attrs.get("reference_frequency")
+            shown = f" ({reference} = {float(value):.4g} rad/s)" if value is not None else ""
+            return ds[name].values, f"ω / {reference}{shown}"
     return ds["omega"].values, "ω [rad/s]"
+
+
+def output_unit(ds: xr.Dataset) -> str:
+    """The unit of the outputs when they share one ('' when unknown or mixed)."""
+    if "output_units" not in ds.coords:
+        return ""
+    units = {str(u) for u in ds["output_units"].values}
+    return units.pop() if len(units) == 1 else ""
 
 
 def unstable_spans(x: np.ndarray, stable: np.ndarray) -> list[tuple[float, float]]:
@@ -66,9 +76,13 @@ def _label(selector: dict, output: str, several_outputs: bool) -> str:
 
 def plot_sweep(ds: xr.Dataset, title: str | None = None):
     """Amplitude per output vs speed (log scale, unstable points marked ×, failed points
-    left out) over the largest real part of the characteristic exponents. Returns the Figure."""
+    left out) over the largest real part of the characteristic exponents; unstable
+    speeds shaded. The legend sits below the axes, off the data. Returns the Figure."""
+    from matplotlib.patches import Patch
+
     x, xlabel = speed_axis(ds)
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5), height_ratios=(2, 1))
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(9, 6.5), height_ratios=(2, 1),
+                                      layout="constrained")
     outputs = [str(o) for o in ds["output"].values]
     curves = [(sel, out) for sel in grid_points(ds) for out in outputs][:_MAX_CURVES]
     for sel, out in curves:
@@ -82,19 +96,23 @@ def plot_sweep(ds: xr.Dataset, title: str | None = None):
         point = ds.sel(sel) if sel else ds
         bottom.plot(x, point["max_real_exponent"].values, lw=1.2,
                     label=_label(sel, "", False) if sel else None)
+    handles, labels = top.get_legend_handles_labels()
+    handles.append(top.plot([], [], "x", color="0.3")[0])
+    labels.append("unstable point")
     if len(grid_points(ds)) == 1:
         shade_unstable(top, x, ds["stable"].values.reshape(-1))
         shade_unstable(bottom, x, ds["stable"].values.reshape(-1))
+        handles.append(Patch(color="0.88"))
+        labels.append("unstable band (max Re λ ≥ 0 or failed)")
     bottom.axhline(0.0, color="k", lw=0.7)
-    top.set_ylabel("amplitude (half peak-to-peak)")
+    unit = output_unit(ds)
+    top.set_ylabel("amplitude, half peak-to-peak" + (f" [{'-' if unit == '1' else unit}]" if unit else ""))
     bottom.set_ylabel("max Re λ [1/s]")
     bottom.set_xlabel(xlabel)
-    top.plot([], [], "x", color="0.3", label="unstable")
-    top.legend(fontsize=8, loc="best")
-    top.set_title(textwrap.fill(title or ds.attrs.get("title", "sweep"), 90), fontsize=10)
+    fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 4), fontsize=8)
+    fig.suptitle(textwrap.fill(title or ds.attrs.get("title", "sweep"), 100), fontsize=9)
     top.grid(True, which="major", alpha=0.3)
     bottom.grid(True, alpha=0.3)
-    fig.tight_layout()
     return fig
 
 

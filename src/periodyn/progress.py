@@ -39,6 +39,7 @@ class Progress:
         self.start = time.perf_counter()
         self.last_line = self.start
         self.bar = None
+        self.first: tuple[float, int] | None = None  # (time, done) at the first finished chunk
         if mode is True or (mode is None and self.stream.isatty()):
             size = shutil.get_terminal_size()  # 80 x 24 when the terminal reports 0 x 0
             self.bar = tqdm(total=total, initial=initial, desc=description, unit="pt", delay=DELAY,
@@ -56,6 +57,8 @@ class Progress:
 
     def update(self, n: int) -> None:
         self.done += n
+        if self.first is None:
+            self.first = (time.perf_counter(), self.done)
         if self.bar is not None:
             self.bar.update(n)
         if self.callback is not None:
@@ -66,9 +69,14 @@ class Progress:
             self._line()
 
     def _line(self) -> None:
-        elapsed = time.perf_counter() - self.start
-        rate = (self.done - self.initial) / max(elapsed, 1e-9)
-        left = (self.total - self.done) / rate if rate > 0 else float("inf")
-        eta = _seconds(left) if left != float("inf") else "?"
+        now = time.perf_counter()
+        elapsed = now - self.start
+        if self.first is None:  # nothing finished yet: the kernels are still loading or compiling
+            rate, eta = 0.0, "? (loading or compiling the kernels)"
+        else:  # rate after the first chunk, which also paid for start-up and compilation
+            first_time, first_done = self.first
+            rate = (self.done - first_done) / max(now - first_time, 1e-9) if self.done > first_done else \
+                (self.done - self.initial) / max(elapsed, 1e-9)
+            eta = _seconds((self.total - self.done) / rate) if rate > 0 else "?"
         print(f"{self.description}: {self.done}/{self.total} points ({100 * self.done / max(self.total, 1):.0f} %), "
               f"{rate:.0f} points/s, elapsed {_seconds(elapsed)}, ETA {eta}", file=self.stream, flush=True)

@@ -18,8 +18,12 @@ variable                dims                                meaning
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
+``output_units`` along output (the unit of each output, "" where the model does not say),
 ``exponent`` (index 0..2n-1), and ``omega_over_<ref>`` along omega when the sweep has a
 reference frequency. Failed points hold NaN and ``stable = False``.
+
+:data:`_LAYOUT` below is the one definition of this layout: :func:`empty_columns` (the
+per-point columns a sweep fills) and :func:`to_dataset` (the dataset) both read it.
 
 On disk complex variables become real ones with a trailing ``part`` dimension
 (``real``, ``imag``) so plain netCDF readers open the file; :func:`load` restores them.
@@ -39,7 +43,8 @@ import xarray as xr
 
 from .errors import InputError
 
-__all__ = ["load", "save", "ensure", "package_versions", "STATUS_SOLVED", "STATUS_FAILED"]
+__all__ = ["load", "save", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
+           "STATUS_FAILED"]
 
 STATUS_SOLVED = 0
 STATUS_FAILED = 1
@@ -67,7 +72,8 @@ def _split_complex(ds: xr.Dataset) -> xr.Dataset:
             parts = np.stack([var.values.real, var.values.imag], axis=-1)
             out[name] = xr.Variable(var.dims + (_PART,), parts, {**var.attrs, _COMPLEX_FLAG: 1})
     if any(_COMPLEX_FLAG in out[v].attrs for v in out.data_vars):
-        out = out.assign_coords({_PART: np.array(["real", "imag"])})
+        out = out.assign_coords({_PART: (_PART, np.array(["real", "imag"]),
+                                          {"long_name": "real or imaginary part of a complex variable"})})
     return out
 
 
@@ -111,29 +117,6 @@ def load(path) -> xr.Dataset:
     return _join_complex(ds)
 
 
-def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: int | str = "auto") -> xr.Dataset:
-    """Results of the sweep file ``sweeps/<name>.toml``, from ``<results_dir>/<name>.nc``
-    when that file was made from the same sweep file text, else computed and written.
-
-    Relative directories are taken from the project root (the folder holding ``sweeps/``).
-    Used by the figure scripts, which only read results and draw.
-    """
-    from .config import load_sweep_file, project_root  # here: both modules import this one
-    from .sweep import sweep_file
-
-    root = project_root()
-    spec = load_sweep_file(root / sweeps_dir / f"{name}.toml")
-    out = root / results_dir / f"{name}.nc"
-    if out.is_file():
-        try:
-            ds = load(out)
-        except InputError:  # unreadable: computed again below
-            ds = None
-        if ds is not None and ds.attrs.get("sweep_file_text") == spec.text:
-            return ds
-    return sweep_file(spec, out=out, workers=workers, resume=True, progress=None)
-
-
 def options_attrs(options: dict) -> dict:
     """Dataset attributes for sweep options: JSON in ``sweep_options`` plus flat scalars."""
     attrs = {"sweep_options": json.dumps(options, sort_keys=True)}
@@ -143,3 +126,88 @@ def options_attrs(options: dict) -> dict:
         elif isinstance(value, (int, float, str)):
             attrs[key] = value
     return attrs
+
+
+# name, dimensions after the point dimensions, fill value (dtype), attributes; "{units}"
+# stands for the output units
+_LAYOUT = (
+    ("amplitude", ("output",), np.nan, {"long_name": "half peak-to-peak amplitude", "units": "{units}"}),
+    ("mean", ("output",), np.nan, {"long_name": "mean over one period", "units": "{units}"}),
+    ("harmonics", ("harmonic", "output"), np.nan + 0j,
+     {"long_name": "Fourier coefficients y_l of the outputs, y(t) = sum_l y_l exp(i l omega t)", "units": "{units}"}),
+    ("residual", (), np.nan, {"long_name": "relative harmonic-balance residual norm", "units": "1"}),
+    ("exponents", ("exponent",), np.nan + 0j,
+     {"long_name": "characteristic exponents (NaN without stability)", "units": "rad/s"}),
+    ("multipliers", ("exponent",), np.nan + 0j, {"long_name": "Floquet multipliers", "units": "1"}),
+    ("max_real_exponent", (), np.nan,
+     {"long_name": "largest real part of the characteristic exponents", "units": "1/s"}),
+    ("stable", (), False, {"long_name": "periodic solution asymptotically stable"}),
+    ("status", (), np.int8(STATUS_FAILED),
+     {"long_name": "0 solved, 1 failed (see message)", "flag_values": np.array([STATUS_SOLVED, STATUS_FAILED],
+                                                                                 dtype=np.int8),
+      "flag_meanings": "solved failed"}),
+    ("message", (), "", {"long_name": "why the point failed, empty if solved"}),
+)
+
+
+def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:
+    return {"harmonic": 2 * harmonics + 1, "output": n_outputs, "exponent": n_exponents}
+
+
+def empty_columns(count: int, harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, np.ndarray]:
+    """Result columns for ``count`` points: ``index`` (count,) int plus every variable of
+    the layout with a leading point axis, filled as failed (NaN, status 1, message '')."""
+    sizes = _sizes(harmonics, n_outputs, n_exponents)
+    columns = {"index": np.zeros(count, dtype=np.int64)}
+    for name, dims, fill, _ in _LAYOUT:
+        dtype = object if isinstance(fill, str) else np.asarray(fill).dtype
+        columns[name] = np.full((count, *(sizes[d] for d in dims)), fill, dtype=dtype)
+    return columns
+
+
+def _units_text(units: tuple[str, ...]) -> str:
+    known = sorted(set(u for u in units if u))
+    if len(known) == 1 and all(units):
+        return known[0]
+    return "per output: see output_units" if known else "not given by the model"
+
+
+def to_dataset(columns: dict[str, np.ndarray], *, omega: np.ndarray, harmonics: int, outputs: tuple[str, ...],
+               output_units: tuple[str, ...] | None = None, grid: dict[str, np.ndarray] | None = None,
+               reference: tuple[str, float] | None = None, attrs: dict | None = None) -> xr.Dataset:
+    """The sweep dataset from result columns over flat point indices (C order of
+    ``(*grid, omega)``, as from :func:`empty_columns`). omega (k,) rad/s; outputs: names;
+    output_units: one unit string per output ('' unknown); grid: {name: values} in order;
+    reference: (name, rad/s) adds ``omega_over_<name>``."""
+    from .spectra import harmonic_indices
+
+    grid = dict(grid or {})
+    shape = tuple(len(v) for v in grid.values()) + (len(omega),)
+    base = tuple(grid) + ("omega",)
+    units = tuple(output_units) if output_units is not None else ("",) * len(outputs)
+    if len(units) != len(outputs):
+        raise InputError(f"{len(units)} output units for {len(outputs)} outputs ({', '.join(outputs)}); "
+                         "give one unit per output")
+    coords = {"omega": ("omega", np.asarray(omega, float), {"units": "rad/s", "long_name": "driving speed"}),
+              "harmonic": ("harmonic", harmonic_indices(harmonics),
+                           {"long_name": "harmonic index l of exp(i l omega t)", "units": "1"}),
+              "output": ("output", np.array(outputs, dtype=str), {"long_name": "model output"}),
+              "output_units": ("output", np.array(units, dtype=str), {"long_name": "unit of each output"}),
+              "exponent": ("exponent", np.arange(columns["exponents"].shape[-1]),
+                           {"long_name": "characteristic exponent index", "units": "1"})}
+    for name, values in grid.items():
+        coords[name] = (name, np.asarray(values), {"long_name": f"model parameter {name}"})
+    if reference is not None:
+        ref_name, ref_value = reference
+        coords[f"omega_over_{ref_name}"] = ("omega", np.asarray(omega, float) / ref_value,
+                                            {"units": "1", "long_name": f"omega / {ref_name}",
+                                             "reference_frequency": ref_value,
+                                             "reference_frequency_units": "rad/s"})
+    variables = {}
+    for name, dims, fill, var_attrs in _LAYOUT:
+        values = columns[name].reshape(shape + columns[name].shape[1:])
+        if isinstance(fill, str):
+            values = values.astype(str)
+        filled = {k: (v.format(units=_units_text(units)) if isinstance(v, str) else v) for k, v in var_attrs.items()}
+        variables[name] = (base + dims, values, filled)
+    return xr.Dataset(variables, coords=coords, attrs=dict(attrs or {}))

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,7 +33,7 @@ def project(tmp_path, monkeypatch):
     (tmp_path / "figures").mkdir()
     (tmp_path / "figures" / "fig9_tiny.py").write_text(textwrap.dedent("""
         from periodyn.plotting import plot_sweep, save_figure
-        from periodyn.results import ensure
+        from periodyn.config import ensure
 
         def main(out_dir):
             return [save_figure(plot_sweep(ensure("tiny")), out_dir / "fig9_tiny.png")]
@@ -50,7 +52,7 @@ def test_sweep_writes_results_and_plot(project, capsys):
     assert ds.attrs["sweep_file_text"] == TINY
     assert (project / "r" / "tiny.png").stat().st_size > 10_000
     out = capsys.readouterr().out
-    assert "12 points, 0 failed" in out and "unstable (or failed) points, ω / ω0: [0.9" in out
+    assert "12 points, 0 failed" in out and "unstable (or failed) points, ω / ω0 (ω0 = 3.132 rad/s): [0.9" in out
 
 
 def test_sweep_default_output_and_quiet(project, capsys):
@@ -105,7 +107,7 @@ def test_info(capsys):
 
 
 def test_help_of_every_command(capsys):
-    for argv in ([], ["sweep"], ["figures"], ["bench"], ["info"]):
+    for argv in ([], ["sweep"], ["figures"], ["bench"], ["warmup"], ["info"]):
         with pytest.raises(SystemExit) as info:
             main([*argv, "--help"])
         assert info.value.code == 0 and "usage: periodyn" in capsys.readouterr().out
@@ -119,3 +121,100 @@ def test_help_of_every_command(capsys):
 def test_console_entry_point_runs():
     run = subprocess.run([sys.executable, "-m", "periodyn.cli", "--help"], capture_output=True, text=True)
     assert run.returncode == 0 and "sweep" in run.stdout and "figures" in run.stdout
+
+
+def test_figures_report_progress_per_script(project, capsys):
+    assert main(["figures", "fig9"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "[1/1] fig9_tiny ..."
+    assert lines[-1].startswith("[1/1] fig9_tiny (") and lines[-1].endswith("fig9_tiny.png")
+
+
+def test_plot_axes_and_result_file_carry_units(project, capsys):
+    (project / "sweeps" / "tiny.toml").write_text(TINY + 'output_units = { phi = "rad" }\n')
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "r.nc", "--plot", "r.png", "-q", "--workers", "1"]) == 0
+    ds = load(project / "r.nc")
+    assert ds["amplitude"].attrs["units"] == "rad" and list(ds["output_units"].values) == ["rad"]
+    assert ds["output"].attrs["long_name"] and ds["omega_over_omega0"].attrs["reference_frequency_units"] == "rad/s"
+    import matplotlib.pyplot as plt
+
+    from periodyn.plotting import plot_sweep
+
+    fig = plot_sweep(ds, title="tiny")
+    top, bottom = fig.axes[:2]
+    assert top.get_ylabel().endswith("[rad]") and bottom.get_ylabel() == "max Re λ [1/s]"
+    assert "ω0 = 3.132 rad/s" in bottom.get_xlabel()
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert any(t.startswith("unstable band") for t in legend) and "unstable point" in legend
+    plt.close(fig)
+
+
+def test_summary_after_resume_counts_computed_points(project, capsys):
+    from periodyn.config import load_sweep_file
+    from periodyn.sweep import ExecutionOptions, OutputOptions, sweep
+
+    spec = load_sweep_file(project / "sweeps" / "tiny.toml")
+    plan = spec.plan()
+    out = project / "part.nc"
+
+    class Stop(Exception):
+        pass
+
+    def stop(done, total):
+        if done >= 10:
+            raise Stop
+
+    with pytest.raises(Stop):
+        sweep(plan.model, plan.omega, spec.harmonics, spec.samples, out=out, progress=stop,
+              execution=ExecutionOptions(chunk_size=5),
+              output=OutputOptions(spec.example, plan.reference, None, spec.text))
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "part.nc", "--resume", "--workers", "1",
+                 "--chunk-size", "5"]) == 0
+    out_text = capsys.readouterr().out
+    assert "30 points, 10 restored from checkpoints" in out_text and "points/s computed" in out_text
+    assert load(out).attrs["points_computed"] == 20
+
+
+def test_descending_speeds_get_a_note(project, capsys):
+    assert main(["sweep", "sweeps/tiny.toml", "--omega", "1.2:0.4:5", "--out", "d.nc", "--workers", "1"]) == 0
+    assert "note: the speeds run down, from 1.2 to 0.4 omega0" in capsys.readouterr().err
+
+
+def test_warmup_reports_each_step(capsys):
+    assert main(["warmup"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert all(line.startswith(f"warmup [{i}/3] ") and line.endswith(" s") for i, line in enumerate(out[:3], 1))
+    assert out[3].startswith("kernels compiled and cached in")
+
+
+def test_bench_linearize_runs_without_the_test_extras(tmp_path):
+    """benchmarks/bench_linearize.py imports its NumPy twin from tests/planar_twins.py,
+    which needs neither pytest nor hypothesis (both made unimportable here)."""
+    root = Path(__file__).resolve().parents[2]
+    blocker = tmp_path / "sitecustomize.py"
+    blocker.write_text("import sys\nfor name in ('pytest', 'hypothesis', '_pytest'):\n    sys.modules[name] = None\n")
+    env = {**os.environ, "PYTHONPATH": f"{tmp_path}:{root / 'src'}"}
+    run = subprocess.run([sys.executable, "-c", "import runpy, sys; sys.argv = ['bench_linearize.py', '--help']; "
+                          f"runpy.run_path({str(root / 'benchmarks' / 'bench_linearize.py')!r}, run_name='__main__')"],
+                         capture_output=True, text=True, env=env, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "usage" in run.stdout
+
+
+def test_a_cold_kernel_cache_is_announced_before_the_sweep(project, capsys, monkeypatch):
+    import importlib
+
+    engine = importlib.import_module("periodyn.sweep")
+    monkeypatch.setattr(engine, "kernels_cached", lambda: False)
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "c.nc", "--workers", "1"]) == 0
+    assert "compiling the numerical kernels on first use" in capsys.readouterr().err
+    assert main(["sweep", "sweeps/tiny.toml", "--out", "c.nc", "--workers", "1", "-q"]) == 0
+    assert capsys.readouterr().err == ""  # --quiet says nothing
+
+
+def test_kernels_cached_sees_the_cache_beside_the_sources():
+    from periodyn.engine.warmup import kernels_cached, warm_up
+
+    with open(os.devnull, "w") as sink:
+        warm_up(sink)
+    assert kernels_cached()

@@ -101,7 +101,7 @@ def edit(path: tuple, value=None, delete=False) -> dict:
         (edit(("sweep", "harmonic"), 4), r"\[sweep\]: unknown key 'harmonic'; did you mean 'harmonics'\?"),
         (edit(("model", "parameters", "zeeta"), 0.1), r"unknown key 'zeeta'; did you mean 'zeta'\?"),
         (edit(("model", "example"), "pendelum"), r"unknown example 'pendelum'; did you mean 'pendulum'\? known "),
-        (edit(("sweep", "harmonics"), -2), r"harmonics: must be an integer >= 0, got -2"),
+        (edit(("sweep", "harmonics"), -2), r"harmonics: must be an integer >= 1, got -2"),
         (edit(("sweep", "harmonics"), 2.5), r"harmonics: must be an integer, got a number \(2.5\)"),
         (edit(("sweep", "samples"), 5), r"5 samples cannot resolve 4 harmonics; use samples >= 9"),
         (edit(("sweep", "omega", "start"), -0.1), r"omega.start: must be positive"),

@@ -1,4 +1,4 @@
-"""Result files: netCDF round trip, readable without periodyn, and results.ensure."""
+"""Result files: netCDF round trip, readable without periodyn, and config.ensure."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import xarray as xr
 
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
-from periodyn.results import ensure, load, save
+from periodyn.config import ensure
+from periodyn.results import load, save
 from periodyn.sweep import sweep
 
 SWEEP_FILE = """
@@ -84,3 +85,23 @@ def test_ensure_computes_once_then_reads(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "sweeps" / "tiny.toml").write_text(SWEEP_FILE.replace("num = 12", "num = 7"))
     assert ensure("tiny").sizes["omega"] == 7  # the sweep file changed: computed again
+
+
+def test_to_dataset_lays_out_the_columns_it_defines():
+    """empty_columns and to_dataset read one layout: every column becomes a variable with
+    the point dimensions first, and the output units reach the attributes."""
+    from periodyn.results import empty_columns, to_dataset
+
+    columns = empty_columns(6, 2, 2, 4)
+    ds = to_dataset(columns, omega=np.array([1.0, 2.0, 3.0]), harmonics=2, outputs=("x", "phi"),
+                    output_units=("m", "rad"), grid={"zeta": np.array([0.1, 0.2])}, reference=("omega0", 2.0))
+    assert set(columns) - {"index"} == set(ds.data_vars)
+    assert ds["harmonics"].dims == ("zeta", "omega", "harmonic", "output") and ds.sizes["harmonic"] == 5
+    assert ds["exponents"].dims == ("zeta", "omega", "exponent") and ds.sizes["exponent"] == 4
+    assert list(ds["output_units"].values) == ["m", "rad"]
+    assert ds["amplitude"].attrs["units"] == "per output: see output_units"
+    assert (ds["status"].values == 1).all() and np.isnan(ds["amplitude"].values).all()
+    np.testing.assert_allclose(ds["omega_over_omega0"].values, [0.5, 1.0, 1.5])
+    same = to_dataset(columns, omega=np.array([1.0, 2.0, 3.0]), harmonics=2, outputs=("x", "phi"),
+                      output_units=("m", "m"), grid={"zeta": np.array([0.1, 0.2])})
+    assert same["mean"].attrs["units"] == "m"

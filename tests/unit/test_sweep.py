@@ -10,7 +10,7 @@ from periodyn.analysis import SpeedSolver, solve_point
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples import pendulum
 from periodyn.results import STATUS_FAILED, STATUS_SOLVED, load
-from periodyn.sweep import sweep
+from periodyn.sweep import ExecutionOptions, sweep
 
 W0 = np.sqrt(9.81)
 OMEGA = W0 * np.linspace(0.1, 1.4, 24)
@@ -106,7 +106,7 @@ def test_parameter_grid_over_builder_keywords():
     [
         ({"omega": [0.0, 1.0]}, "positive finite speed"),
         ({"omega": [[1.0, 2.0]]}, "1-D"),
-        ({"harmonics": -1}, "harmonics must be an integer >= 0"),
+        ({"harmonics": -1}, "harmonics must be an integer >= 1"),
         ({"samples": 0}, "samples must be an integer >= 1"),
         ({"method": "fast"}, "unknown method 'fast'"),
         ({"workers": -2}, "workers must be an integer >= 0"),
@@ -134,7 +134,8 @@ def test_parallel_processes_identical_to_serial():
     the second is built by the builder inside the workers."""
     grid = {"zeta": [0.01, 0.03]}
     serial = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, progress=False)
-    parallel = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, workers=2, chunk_size=5, progress=False)
+    parallel = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, workers=2,
+                     execution=ExecutionOptions(chunk_size=5), progress=False)
     xr.testing.assert_identical(data_only(parallel), data_only(serial))
     assert parallel.attrs["backend"] == "processes" and parallel.attrs["workers"] == 2
 
@@ -147,18 +148,19 @@ def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=stop_after_two_chunks)
+        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), progress=stop_after_two_chunks)
     parts = out.with_name("sweep.nc.parts")
     assert len(list(parts.glob("chunk-*.npz"))) == 2 and not out.exists()
 
     with pytest.raises(InputError, match="--resume"):
-        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=False)
+        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), progress=False)
     with pytest.raises(InputError, match="other settings"):
-        sweep(model, OMEGA, M + 1, out=out, chunk_size=5, resume=True, progress=False)
+        sweep(model, OMEGA, M + 1, out=out, execution=ExecutionOptions(chunk_size=5), resume=True, progress=False)
 
     (parts / ".tmp-123-chunk-0000000010-5.npz").write_bytes(b"half a chunk")  # a killed write
     calls = []
-    resumed = sweep(model, OMEGA, M, out=out, chunk_size=5, resume=True, progress=lambda d, t: calls.append(d))
+    resumed = sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), resume=True,
+                    progress=lambda d, t: calls.append(d))
     assert calls[0] == 15  # started from the 10 checkpointed points
     assert not parts.exists()
     xr.testing.assert_identical(data_only(resumed), data_only(serial))
@@ -171,7 +173,7 @@ def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
 def test_failure_before_the_first_chunk_leaves_nothing_to_resume(model, serial, tmp_path):
     out = tmp_path / "s.nc"
     with pytest.raises(InputError):
-        sweep(model, OMEGA, M, out=out, scheduler="tcp://127.0.0.1:1:bad", progress=False)
+        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions("tcp://127.0.0.1:1:bad"), progress=False)
     assert not out.with_name("s.nc.parts").exists()
     out.with_name("s.nc.parts").mkdir()  # killed between creating the folder and its manifest
     ds = sweep(model, OMEGA, M, out=out, progress=False)
@@ -186,9 +188,9 @@ def test_unreadable_chunk_is_recomputed(model, serial, tmp_path):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        sweep(model, OMEGA, M, out=out, chunk_size=5, progress=stop)
+        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), progress=stop)
     (chunk,) = out.with_name("s.nc.parts").glob("chunk-*.npz")
     chunk.write_bytes(chunk.read_bytes()[:100])
-    resumed = sweep(model, OMEGA, M, out=out, chunk_size=5, resume=True, progress=False)
+    resumed = sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), resume=True, progress=False)
     xr.testing.assert_identical(data_only(resumed), data_only(serial))
 

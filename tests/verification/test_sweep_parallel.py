@@ -16,7 +16,7 @@ import xarray as xr
 
 from periodyn.config import load_sweep_file
 from periodyn.examples import pendulum
-from periodyn.sweep import sweep, sweep_file
+from periodyn.sweep import ExecutionOptions, sweep, sweep_file
 
 KILL_SWEEP = """
 description = "sweep that is killed mid-run by the test"
@@ -93,14 +93,14 @@ def test_dask_cluster_address_matches_serial(small):
 
     model, omega, serial = small
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        ds = sweep(model, omega, 5, scheduler=cluster.scheduler_address, chunk_size=4, progress=False)
+        ds = sweep(model, omega, 5, execution=ExecutionOptions(cluster.scheduler_address, 4), progress=False)
     assert ds.attrs["backend"] == "dask"
     xr.testing.assert_identical(ds.drop_attrs(), serial)
 
 
 def test_dask_local_cluster_matches_serial(small):
     model, omega, serial = small
-    ds = sweep(model, omega, 5, scheduler="local", workers=2, chunk_size=4, progress=False)
+    ds = sweep(model, omega, 5, workers=2, execution=ExecutionOptions("local", 4), progress=False)
     xr.testing.assert_identical(ds.drop_attrs(), serial)
 
 
@@ -110,11 +110,28 @@ def test_script_without_main_guard_runs_workers_once(tmp_path):
     script.write_text(
         "import numpy as np\n"
         "from periodyn.examples import pendulum\n"
-        "from periodyn.sweep import sweep\n"
+        "from periodyn.sweep import ExecutionOptions, sweep\n"
         "print('script body ran', flush=True)\n"
-        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2, chunk_size=2,\n"
+        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2, execution=ExecutionOptions(chunk_size=2),\n"
         "           progress=False)\n"
         "print('stable points:', int(ds['stable'].sum()), flush=True)\n")
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.count("script body ran") == 1 and "stable points: 6" in run.stdout
+
+
+SHIPPED = sorted(p.stem for p in (Path(__file__).resolve().parents[2] / "sweeps").glob("*.toml")
+                 if not p.stem.startswith("dae_"))
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_serial_and_two_workers_bit_identical_on_shipped_sweeps(name):
+    """Each shipped sweep file at 12 speeds of its range: the serial sweep (in this process,
+    where BLAS would otherwise run several threads) equals two worker processes bit for bit."""
+    spec = load_sweep_file(Path(__file__).resolve().parents[2] / "sweeps" / f"{name}.toml")
+    speeds = spec.omega_values()
+    omega = (float(speeds.min()), float(speeds.max()), 12)
+    serial = sweep_file(spec, omega=omega, workers=1, progress=False)
+    parallel = sweep_file(spec, omega=omega, workers=2, chunk_size=3, progress=False)
+    assert parallel.attrs["backend"] == "processes"
+    xr.testing.assert_identical(serial.drop_attrs(), parallel.drop_attrs())

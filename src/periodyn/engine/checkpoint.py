@@ -1,0 +1,134 @@
+"""Checkpoints of a sweep writing ``out``: finished chunks in ``<out>.parts/`` until merged,
+and the fingerprint of the sweep settings that a resume must match."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Iterator
+
+import numpy as np
+import xarray as xr
+
+from ..errors import InputError
+from ..results import save
+from ..system import OmegaSplitModel
+from .job import Job
+
+__all__ = ["Checkpoint", "Collected", "fingerprint", "model_identity", "split"]
+
+
+class Checkpoint:
+    """Finished chunks of the sweep writing ``out``, kept in ``<out>.parts/`` until merged.
+
+    Each chunk is an .npz file written under a temporary name and renamed, so a killed
+    process leaves either a whole chunk or none; ``manifest.json`` holds the fingerprint
+    of the sweep settings so a resume refuses parts of a different sweep.
+    """
+
+    def __init__(self, out: Path, fingerprint: str, resume: bool):
+        self.out = out
+        self.parts = out.with_name(out.name + ".parts")
+        self.fingerprint = fingerprint
+        self.manifest = self.parts / "manifest.json"
+        if self.manifest.exists():  # written before the first chunk: without it, nothing was kept
+            if not resume:
+                raise InputError(f"{self.parts} holds an interrupted sweep; resume it with --resume "
+                                 "(resume=True) or delete that directory to start over")
+            try:
+                stored = json.loads(self.manifest.read_text())["fingerprint"]
+            except (OSError, ValueError, KeyError):
+                stored = None
+            if stored != fingerprint:
+                raise InputError(f"{self.parts} belongs to a sweep with other settings (model, speeds, harmonics, "
+                                 "samples, stability or method); rerun with the original settings, or delete "
+                                 "that directory to start over")
+        if self.parts.exists():
+            for stale in self.parts.glob(".tmp-*"):
+                stale.unlink(missing_ok=True)
+
+    def _atomic_write(self, path: Path, write: Callable) -> None:
+        tmp = self.parts / f".tmp-{os.getpid()}-{path.name}"
+        try:
+            with open(tmp, "wb") as f:
+                write(f)
+            os.replace(tmp, path)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
+
+    def chunks(self) -> Iterator[dict[str, np.ndarray]]:
+        """Chunks already finished (unreadable files are dropped and recomputed)."""
+        if not self.parts.exists():
+            return
+        for path in sorted(self.parts.glob("chunk-*.npz")):
+            try:
+                with np.load(path, allow_pickle=False) as data:
+                    chunk = {k: data[k] for k in data.files}
+            except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+                path.unlink(missing_ok=True)
+                continue
+            yield chunk
+
+    def write(self, chunk: dict[str, np.ndarray]) -> None:
+        """Store one finished chunk (the folder and its manifest are made with the first)."""
+        if not self.manifest.exists():
+            self.parts.mkdir(parents=True, exist_ok=True)
+            self._atomic_write(self.manifest, lambda f: f.write(json.dumps({"fingerprint": self.fingerprint}).encode()))
+        name = f"chunk-{int(chunk['index'][0]):010d}-{len(chunk['index'])}.npz"
+        self._atomic_write(self.parts / name, lambda f: np.savez(f, **chunk))
+
+    def finish(self, ds: xr.Dataset) -> None:
+        """Write the merged result file, then drop the parts."""
+        save(ds, self.out)
+        shutil.rmtree(self.parts, ignore_errors=True)
+
+
+
+@dataclass
+class Collected:
+    """Full-size result arrays over flat point indices, filled chunk by chunk."""
+
+    arrays: dict[str, np.ndarray]
+    done: np.ndarray = field(init=False)
+
+    def __post_init__(self):
+        self.done = np.zeros(len(self.arrays["index"]), dtype=bool)
+
+    def add(self, chunk: dict[str, np.ndarray]) -> None:
+        idx = chunk["index"]
+        for key, values in chunk.items():
+            if key != "index":
+                self.arrays[key][idx] = values
+        self.done[idx] = True
+
+
+
+def model_identity(model) -> str:
+    if isinstance(model, OmegaSplitModel):
+        digest = hashlib.sha256()
+        for a in (model.mass, model.damping, model.stiffness, model.force, model.output_maps):
+            digest.update(np.ascontiguousarray(a).tobytes())
+        digest.update(repr((model.name, model.output_names, model.coordinate_names)).encode())
+        return digest.hexdigest()
+    return f"{getattr(model, '__module__', '')}.{getattr(model, '__qualname__', type(model).__qualname__)}"
+
+
+def fingerprint(job: Job, options: dict, identity: str) -> str:
+    digest = hashlib.sha256(json.dumps(options, sort_keys=True).encode())
+    digest.update(identity.encode())
+    digest.update(job.omega.tobytes())
+    for name, values in zip(job.source.grid_names, job.source.grid_values):
+        digest.update(name.encode())
+        digest.update(np.asarray(values).tobytes())
+    return digest.hexdigest()
+
+
+def split(indices: np.ndarray, chunk_size: int) -> list[np.ndarray]:
+    return [indices[i:i + chunk_size] for i in range(0, len(indices), chunk_size)]
+

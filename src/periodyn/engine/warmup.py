@@ -1,0 +1,69 @@
+"""Numba's on-disk cache of the compiled kernels: whether it is filled, and filling it
+(``periodyn warmup``) with one progress line per step, so the first sweep after an
+install does not spend its first 20-200 s compiling in silence."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Callable, TextIO
+
+__all__ = ["kernels_cached", "warm_up", "STEPS", "COMPILE_NOTE"]
+
+#: kernel modules the speed solver calls at every sweep point
+_SOLVER_KERNELS = ("banded", "floquet", "outputs")
+COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 20-200 s; "
+                "`periodyn warmup` does it ahead)")
+
+
+def kernels_cached() -> bool:
+    """True when the speed solver's kernels are in Numba's cache beside the sources (or
+    when a NUMBA_CACHE_DIR elsewhere makes that unknowable)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return True
+    cache = Path(__file__).resolve().parents[1] / "kernels" / "__pycache__"
+    return all(any(cache.glob(f"{name}.*.nbi")) for name in _SOLVER_KERNELS)
+
+
+def _speed_solver() -> None:
+    from ..analysis import warm_up as solver_warm_up
+
+    solver_warm_up()
+
+
+def _element_models() -> None:
+    from ..analysis import SpeedSolver
+    from ..examples import slider_crank
+
+    model = slider_crank(samples=16)
+    SpeedSolver(model, 3, method="magnus").solve_many([200.0])
+
+
+def _dae() -> None:
+    from ..dae import ihb
+    from ..examples import rod_pendulum
+
+    ihb(rod_pendulum(), 3.6, 3)
+
+
+#: (what, function) in the order run by :func:`warm_up`
+STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
+    ("speed solver (harmonic balance, Hill, Magnus monodromy)", _speed_solver),
+    ("element models (kinematics, planar beam/truss/hinge linearization)", _element_models),
+    ("DAE harmonic balance (IHB)", _dae),
+)
+
+
+def warm_up(stream: TextIO | None = None) -> float:
+    """Compile (or load) every kernel family once, printing one line per step to
+    ``stream`` (stderr by default); returns the seconds taken."""
+    stream = stream if stream is not None else sys.stderr
+    start = time.perf_counter()
+    for i, (what, step) in enumerate(STEPS, 1):
+        began = time.perf_counter()
+        print(f"warmup [{i}/{len(STEPS)}] {what} ...", end="", file=stream, flush=True)
+        step()
+        print(f" {time.perf_counter() - began:.1f} s", file=stream, flush=True)
+    return time.perf_counter() - start
