@@ -24,7 +24,7 @@ from .kernels.outputs import midpoint_deflection
 from .kinematics import configuration, motion, nominal_configurations
 from .system import OmegaSplitModel, RheoLinear
 
-__all__ = ["LinearizedSamples", "linearize", "rheo_linear", "omega_split", "output_maps", "reduced_residual"]
+__all__ = ["LinearizedSamples", "independent_terms", "linearize", "rheo_linear", "omega_split", "output_maps", "reduced_residual"]
 
 
 @dataclass(frozen=True)
@@ -76,18 +76,19 @@ def _element_coefficients(el, k: int):
             [np.asarray(c, dtype=float).reshape(k, k) for c in el.stiffness], force)
 
 
-def _add_independent(model, Fd, Fdv, Fda, omega):
-    """Eq. (11-12) for every independent element, as polynomials in omega.
+def independent_terms(independent, Fd, Fdv, Fda):
+    """Eq. (11-12) for independent elements [(element, coordinate indices)], as
+    polynomials in omega.
 
-    Fd (p, n_x, n_d); Fdv, Fda at unit input speed (they scale with omega, omega^2).
-    Returns mass (p,nd,nd), damping [w^0, w^1], stiffness [w^0, w^1, w^2] (each
-    (p,nd,nd)) and force (p,nd); if omega is given, the powers are summed."""
+    Fd (p, n_x, n_d) = F_q^d; Fdv, Fda at unit input speed (they scale with omega,
+    omega^2). Returns mass (p,nd,nd), damping [w^0, w^1], stiffness [w^0, w^1, w^2]
+    (each (p,nd,nd)) and force (p,nd)."""
     p, _, nd = Fd.shape
     M = np.zeros((p, nd, nd))
     C = [np.zeros((p, nd, nd)) for _ in range(2)]
     K = [np.zeros((p, nd, nd)) for _ in range(3)]
     f = np.zeros((p, nd))
-    for el, idx in model.independent:
+    for el, idx in independent:
         Me, Ce, Ke, fe = _element_coefficients(el, len(idx))
         A, Av, Aa = Fd[:, idx], Fdv[:, idx], Fda[:, idx]   # (p, k, nd)
         At = np.swapaxes(A, 1, 2)
@@ -100,6 +101,13 @@ def _add_independent(model, Fd, Fdv, Fda, omega):
             K[power + 1] += At @ Cp @ Av
         for power, Kp in enumerate(Ke):
             K[power] += At @ Kp @ A
+    return M, C, K, f
+
+
+def _add_independent(model, Fd, Fdv, Fda, omega):
+    """:func:`independent_terms` of the model's independent elements; if omega is
+    given, the powers are summed."""
+    M, C, K, f = independent_terms(model.independent, Fd, Fdv, Fda)
     if omega is None:
         return M, C, K, f
     return M, C[0] + omega * C[1], K[0] + omega * K[1] + omega**2 * K[2], f

@@ -1,0 +1,144 @@
+"""Rotor elements and equations: textbook element matrices, rigid-body gyroscopic
+precession, frame equivalence, the periodic co-rotating system of an anisotropic rotor
+against the stationary-frame eigenvalues, and clear errors for bad input."""
+
+import numpy as np
+import pytest
+
+from periodyn import characteristic_exponents
+from periodyn.errors import InputError
+from periodyn.results import load, save
+from periodyn.rotor import Bearing, Rotor, Seal, campbell, shaft_element
+
+E, RHO, D, LEN = 2.1e11, 7800.0, 0.05, 0.4
+A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
+
+
+def test_shaft_element_matches_the_closed_form_matrices():
+    """x-y plane (y1, rz1, y2, rz2): cubic Hermite consistent mass, rotary inertia and
+    stiffness as tabulated (e.g. Przemieniecki; Nelson & McVaugh 1976)."""
+    L = LEN
+    M, G, K = shaft_element(L, E, RHO, D)
+    yz = [0, 3, 4, 7]
+    trans = RHO * A * L / 420 * np.array([[156, 22 * L, 54, -13 * L], [22 * L, 4 * L**2, 13 * L, -3 * L**2],
+                                          [54, 13 * L, 156, -22 * L], [-13 * L, -3 * L**2, -22 * L, 4 * L**2]])
+    rot = RHO * I / (30 * L) * np.array([[36, 3 * L, -36, 3 * L], [3 * L, 4 * L**2, -3 * L, -L**2],
+                                         [-36, -3 * L, 36, -3 * L], [3 * L, -L**2, -3 * L, 4 * L**2]])
+    stiff = E * I / L**3 * np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L**2, -6 * L, 2 * L**2],
+                                     [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L**2, -6 * L, 4 * L**2]])
+    np.testing.assert_allclose(M[np.ix_(yz, yz)], trans + rot, rtol=1e-13, atol=1e-13 * np.abs(trans).max())
+    np.testing.assert_allclose(K[np.ix_(yz, yz)], stiff, rtol=1e-13, atol=1e-13 * np.abs(stiff).max())
+    # the x-z plane is the same with ry = -dz/dx; the planes do not couple except by G
+    sign = np.diag([1.0, -1.0, 1.0, -1.0])
+    zy = [1, 2, 5, 6]
+    np.testing.assert_allclose(sign @ M[np.ix_(zy, zy)] @ sign, M[np.ix_(yz, yz)], rtol=1e-13)
+    assert np.abs(M[np.ix_(yz, zy)]).max() == 0.0 and np.abs(K[np.ix_(yz, zy)]).max() == 0.0
+    np.testing.assert_allclose(G, -G.T, atol=0.0)
+    # polar inertia 2 rho I: G couples the planes with twice the rotary-inertia matrix
+    np.testing.assert_allclose(np.abs(G[np.ix_(zy, yz)]), 2 * np.abs(rot), rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("with_disk", [False, True])
+def test_free_spinning_shaft_precesses_at_polar_over_diametral_inertia(with_disk):
+    """A free rigid body spinning at Omega tilts in forward precession at
+    Omega J_p / J_d (J_d about the centre of mass). The flexible shaft approaches it as
+    its stiffness grows (error ~ (precession / bending frequency)^2 ~ 1/E)."""
+    Jp, Jd = 2 * RHO * I * LEN, RHO * A * LEN**3 / 12 + RHO * I * LEN
+    if with_disk:
+        Jp, Jd = Jp + 0.02, Jd + 0.011
+    speed = 300.0
+    precession = speed * Jp / Jd
+    errors = []
+    for stiffening in (1.0, 100.0):
+        r = Rotor("free")
+        r.add_shaft(0.0, LEN, outer_diameter=D, E=E * stiffening, density=RHO, elements=2)
+        if with_disk:
+            r.add_disk(LEN / 2, 3.0, 0.02, 0.011)
+        ds = campbell(r.compile(), [speed], frame="stationary")
+        freq = ds.frequency.values[0]
+        k = int(np.argmin(np.abs(freq - precession)))
+        assert ds.whirl.values[0, k] == "forward"
+        assert np.sort(np.abs(freq))[6] > 50 * precession   # rigid modes: 4 zero, 1 precession
+        errors.append(abs(freq[k] - precession) / precession)
+    assert errors[1] < 2e-6
+    assert errors[1] < errors[0] / 20 or errors[0] < 1e-6
+
+
+def _anisotropic(elements=4):
+    r = Rotor("aniso")
+    r.add_shaft(0.0, LEN, outer_diameter=D, E=E, density=RHO, elements=elements)
+    r.add_bearing(Bearing(0.0, kyy=2e7, kzz=5e6, kyz=1e6, kzy=-3e5, cyy=800.0, czz=400.0))
+    r.add_bearing(Bearing(LEN, kyy=2e7, kzz=5e6, cyy=800.0, czz=400.0))
+    r.add_disk(0.2, 8.0, 0.05, 0.03)
+    return r.compile()
+
+
+def test_anisotropic_rotor_needs_the_stationary_frame():
+    model = _anisotropic()
+    assert not model.isotropic
+    with pytest.raises(InputError, match="depend on the spin angle"):
+        campbell(model, [100.0], frame="rotating")
+    assert campbell(model, [100.0]).attrs["frame"] == "stationary"
+
+
+def test_anisotropic_rotor_periodic_corotating_system_matches_stationary_eigenvalues():
+    """Co-rotating, anisotropic bearings give periodic coefficients; the Hill exponents
+    (defined modulo i Omega) have the real parts of the stationary-frame eigenvalues."""
+    model = _anisotropic(elements=2)
+    speed = 150.0
+    M, C, K = model.equations("stationary").at(speed)
+    n = M.shape[0]
+    state = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+    expected = np.sort(np.linalg.eigvals(state).real)
+    floquet = characteristic_exponents(model.rheo_linear(speed, 32), 6, method="dense").exponents
+    np.testing.assert_allclose(np.sort(floquet.real), expected, rtol=1e-8, atol=1e-8 * np.abs(expected).max())
+
+
+def test_isotropic_rotor_is_time_invariant_in_both_frames():
+    r = Rotor("iso")
+    r.add_shaft(0.0, LEN, outer_diameter=D, E=E, density=RHO, elements=4)
+    for at in (0.0, LEN):
+        r.add_bearing(Seal(at, K=1e7, k=2e6, C=900.0, c=50.0))
+    r.add_disk(0.2, 8.0, 0.05, 0.03)
+    model = r.compile()
+    speeds = np.linspace(0.0, 2000.0, 7)
+    a, b = campbell(model, speeds, frame="rotating"), campbell(model, speeds, frame="stationary")
+    np.testing.assert_allclose(a.eigenvalue.values, b.eigenvalue.values, rtol=1e-9, atol=1e-9)
+    assert (a.whirl.values == b.whirl.values).all()
+    lin = model.rheo_linear(700.0, 8)   # the co-rotating samples do not vary with the angle
+    assert np.abs(lin.stiffness - lin.stiffness[0]).max() <= 1e-12 * np.abs(lin.stiffness).max()
+
+
+def test_campbell_dataset_saves_and_loads(tmp_path):
+    ds = campbell(_anisotropic(), np.linspace(0, 500, 5), modes=4)
+    back = load(save(ds, tmp_path / "campbell.nc"))
+    np.testing.assert_array_equal(back.eigenvalue.values, ds.eigenvalue.values)
+    assert (back.whirl.values == ds.whirl.values).all()
+    assert back.attrs["frame"] == "stationary"
+
+
+def test_bad_rotor_input_is_named():
+    r = Rotor("bad")
+    r.add_shaft(0.0, 1.0, outer_diameter=D, E=E, density=RHO, elements=2)
+    r.add_bearing(Bearing(0.3, kyy=1e6, kzz=1e6))
+    with pytest.raises(InputError, match=r"bearing at 0.3 m is not on a station; stations are at \[0.0, 0.5, 1.0\]"):
+        r.compile()
+    massless = Rotor("massless")
+    massless.add_shaft(0.0, 1.0, outer_diameter=D, E=E, density=0.0, elements=2)
+    massless.add_disk(1.0, 5.0, 0.1, 0.05)
+    with pytest.raises(InputError, match=r"mass matrix is singular; coordinates \['s0.y'"):
+        massless.compile()
+    with pytest.raises(InputError, match="must join end to end"):
+        gap = Rotor("gap")
+        gap.add_shaft(0.0, 1.0, outer_diameter=D, E=E, density=RHO)
+        gap.add_shaft(1.1, 2.0, outer_diameter=D, E=E, density=RHO)
+        gap.compile()
+    with pytest.raises(InputError, match="end must lie beyond start"):
+        Rotor().add_shaft(1.0, 1.0, outer_diameter=D, E=E, density=RHO)
+    model = _anisotropic()
+    with pytest.raises(InputError, match="speeds must be"):
+        campbell(model, [-1.0])
+    with pytest.raises(InputError, match="modes must be between"):
+        campbell(model, [1.0], modes=0)
+    with pytest.raises(InputError, match="compiled rotor"):
+        campbell(r, [1.0])
