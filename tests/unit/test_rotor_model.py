@@ -142,3 +142,26 @@ def test_bad_rotor_input_is_named():
         campbell(model, [1.0], modes=0)
     with pytest.raises(InputError, match="compiled rotor"):
         campbell(r, [1.0])
+
+
+def test_subset_solver_matches_dense():
+    from periodyn.examples import rotor
+
+    model = rotor(20)
+    speeds = np.linspace(0.0, 900.0, 4)
+    dense = campbell(model, speeds, modes=8, method="dense")
+    subset = campbell(model, speeds, modes=8, method="subset")
+    assert subset.attrs["frame"] == "stationary" and dense.attrs["frame"] == "rotating"
+    np.testing.assert_allclose(subset.eigenvalue.values, dense.eigenvalue.values, rtol=1e-8)
+    assert (subset.whirl.values == dense.whirl.values).all()
+
+
+def test_stability_threshold_interpolates_the_first_crossing():
+    import xarray as xr
+
+    from periodyn.rotor import stability_threshold
+
+    growth = np.array([[-3.0, -1.0], [-2.0, -0.5], [-1.0, 0.5], [1.0, 2.0]])
+    ds = xr.Dataset({"eigenvalue": (("speed", "mode"), growth + 100j)}, coords={"speed": [0.0, 10.0, 20.0, 30.0]})
+    assert stability_threshold(ds) == pytest.approx(15.0)
+    assert np.isnan(stability_threshold(ds.isel(speed=[0, 1])))

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from .model import RotorModel
 
 __all__ = ["campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD"]
@@ -68,9 +68,48 @@ def _eigen(eq, speeds: np.ndarray):
     return lam, fwd, bwd
 
 
+def _subset(eq, speeds: np.ndarray, count: int):
+    """The ``count`` eigenvalues nearest the origin per speed, by ARPACK on the inverse
+    state operator ``[x; y] -> [-K^-1 (C x + M y); x]`` (one sparse LU of K per speed,
+    or once when K does not depend on the speed); same outputs as :func:`_eigen`."""
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import LinearOperator, eigs, splu
+
+    n = eq.mass.shape[0]
+    M = sp.csr_matrix(eq.mass)
+    C0, C1 = (sp.csr_matrix(c) for c in eq.damping)
+    K0, K1, K2 = (sp.csc_matrix(k) for k in eq.stiffness)
+    constant_k = K1.nnz == 0 and K2.nnz == 0
+    lam = np.empty((speeds.size, count), dtype=complex)
+    fwd = np.empty((speeds.size, count))
+    bwd = np.empty((speeds.size, count))
+    lu = splu(K0) if constant_k else None
+    start = np.ones(2 * n)
+    for i, w in enumerate(speeds):
+        if not constant_k:
+            lu = splu(sp.csc_matrix(K0 + w * K1 + w**2 * K2))
+        C = C0 + w * C1
+
+        def apply(v, lu=lu, C=C):
+            v = np.ravel(v)
+            return np.concatenate([-lu.solve(C @ v[:n] + M @ v[n:]), v[:n]])
+
+        try:
+            mu, vecs = eigs(LinearOperator((2 * n, 2 * n), matvec=apply, dtype=float), k=count, v0=start, tol=1e-13)
+        except Exception as exc:  # ARPACK non-convergence
+            raise ConvergenceError(f"subset eigenvalues did not converge at speed {w:.6g} rad/s ({exc}); "
+                                   "use method='dense'") from None
+        start = np.real(vecs[:, 0]) + np.imag(vecs[:, 0])
+        lam[i] = 1.0 / mu
+        a, b = vecs[0:n:4], vecs[1:n:4]
+        fwd[i] = np.sum(np.abs(a + 1j * b) ** 2, axis=0)
+        bwd[i] = np.sum(np.abs(a - 1j * b) ** 2, axis=0)
+    return lam, fwd, bwd
+
+
 def _stationary(lam, fwd, bwd, speeds, frame):
     """One stationary-frame eigenvalue (positive frequency) and whirl per mode pair."""
-    n = lam.shape[1] // 2
+    n = lam.shape[1] // 2 if frame == "rotating" else int(np.min(np.sum(lam.imag >= 0.0, axis=1)))
     if frame == "rotating":
         order = np.argsort(-(fwd - bwd) / (fwd + bwd), axis=1, kind="stable")[:, :n]
         chosen = np.take_along_axis(lam, order, axis=1) + 1j * speeds[:, None]
@@ -84,13 +123,18 @@ def _stationary(lam, fwd, bwd, speeds, frame):
     return np.take_along_axis(chosen, by_frequency, axis=1), np.take_along_axis(forward, by_frequency, axis=1)
 
 
-def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str = "auto") -> xr.Dataset:
+def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str = "auto",
+             method: str = "auto") -> xr.Dataset:
     """Eigenvalues of the rotor at spin speeds ``speeds`` (rad/s), converted to the
     stationary frame, the ``modes`` lowest by frequency (default all).
 
     frame: ``rotating`` solves the time-invariant co-rotating equations (as the paper),
     ``stationary`` the stationary-frame ones, ``auto`` the first where the rotor allows
-    (anisotropic bearings need the stationary frame). Returns a dataset with dims
+    (anisotropic bearings need the stationary frame). method: ``dense`` (all
+    eigenvalues, batched LAPACK), ``subset`` (the 2 modes + 8 eigenvalues nearest the
+    origin by sparse ARPACK, in the stationary frame: cost grows about linearly with the
+    model; a mode far more damped than it vibrates may be passed over), ``auto``
+    (dense up to 120 coordinates). Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
     ``speed_rpm``; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
@@ -100,15 +144,27 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
         raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile() or periodyn.examples.rotor()), "
                          f"got {type(model).__name__}")
     speeds = _speeds(speeds)
-    if frame == "auto":
-        frame = "rotating" if model.isotropic else "stationary"
-    eq = model.equations(frame)
-    n = eq.mass.shape[0]
+    if method not in ("auto", "dense", "subset"):
+        raise InputError(f"method must be 'auto', 'dense' or 'subset', got {method!r}")
+    n = model.n
     modes = n if modes is None else int(modes)
     if not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
-    lam, fwd, bwd = _eigen(eq, speeds)
+    if method == "auto":
+        method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 else "subset"
+    if frame == "auto":
+        frame = "rotating" if model.isotropic and method == "dense" else "stationary"
+    eq = model.equations(frame)
+    if method == "subset":
+        if frame != "stationary":
+            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'")
+        lam, fwd, bwd = _subset(eq, speeds, min(2 * modes + 8, 2 * n - 2))
+    else:
+        lam, fwd, bwd = _eigen(eq, speeds)
     values, forward = _stationary(lam, fwd, bwd, speeds, frame)
+    if values.shape[1] < modes:
+        raise ConvergenceError(f"only {values.shape[1]} vibrating modes found among the eigenvalues nearest the "
+                               f"origin, {modes} asked; use method='dense' or fewer modes")
     values, forward = values[:, :modes], forward[:, :modes]
     ds = xr.Dataset(
         {"eigenvalue": (("speed", "mode"), values, {"units": "1/s", "long_name": "eigenvalue (stationary frame)"}),
@@ -117,7 +173,7 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
          "whirl": (("speed", "mode"), np.where(forward, FORWARD, BACKWARD).astype(object))},
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(modes),
                 "speed_rpm": ("speed", speeds * 30.0 / np.pi, {"units": "rpm"})},
-        attrs={"frame": frame, "rotor": model.name})
+        attrs={"frame": frame, "method": method, "rotor": model.name})
     ds.attrs["threshold_speed"] = stability_threshold(ds)
     return ds
 
