@@ -134,7 +134,7 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     eigenvalues, batched LAPACK), ``subset`` (the 2 modes + 8 eigenvalues nearest the
     origin by sparse ARPACK, in the stationary frame: cost grows about linearly with the
     model; a mode far more damped than it vibrates may be passed over), ``auto``
-    (dense up to 120 coordinates). Returns a dataset with dims
+    (dense up to 120 coordinates or when the rotating frame is asked for). Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
     ``speed_rpm``; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
@@ -151,7 +151,7 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     if not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
     if method == "auto":
-        method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 else "subset"
+        method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 or frame == "rotating" else "subset"
     if frame == "auto":
         frame = "rotating" if model.isotropic and method == "dense" else "stationary"
     eq = model.equations(frame)
