@@ -165,3 +165,19 @@ def test_stability_threshold_interpolates_the_first_crossing():
     ds = xr.Dataset({"eigenvalue": (("speed", "mode"), growth + 100j)}, coords={"speed": [0.0, 10.0, 20.0, 30.0]})
     assert stability_threshold(ds) == pytest.approx(15.0)
     assert np.isnan(stability_threshold(ds.isel(speed=[0, 1])))
+
+
+def test_rotor_file_is_the_example_rotor(tmp_path):
+    from periodyn.config import project_root
+    from periodyn.examples import rotor
+    from periodyn.rotor import load_rotor
+
+    path = project_root() / "sweeps" / "rotors" / "table1.toml"
+    for elements in (1, 4):
+        a = campbell(load_rotor(path, elements=elements), [418.9], modes=8).eigenvalue.values
+        b = campbell(rotor(5 * elements), [418.9], modes=8).eigenvalue.values
+        np.testing.assert_allclose(a, b, rtol=1e-12)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(path.read_text().replace("kyy = 1.0e5\nkzz = 1.0e5\n\n[[bearing]]", "kyy = 1.0e5\nkzz = 1.0e5\nkxx = 1.0\n\n[[bearing]]"))
+    with pytest.raises(InputError, match=r"\[\[bearing\]\] number 1 has unknown keys \['kxx'\]"):
+        load_rotor(bad)
