@@ -181,3 +181,46 @@ def test_rotor_file_is_the_example_rotor(tmp_path):
     bad.write_text(path.read_text().replace("kyy = 1.0e5\nkzz = 1.0e5\n\n[[bearing]]", "kyy = 1.0e5\nkzz = 1.0e5\nkxx = 1.0\n\n[[bearing]]"))
     with pytest.raises(InputError, match=r"\[\[bearing\]\] number 1 has unknown keys \['kxx'\]"):
         load_rotor(bad)
+
+
+def _jeffcott(beta, ce=20.0):
+    """Nearly a Jeffcott rotor: light shaft on stiff end bearings, a 10 kg disk in the
+    middle with a stationary damper ce there; internal damping beta (s) in the shaft."""
+    length, d = 0.6, 0.02
+    r = Rotor("jeffcott")
+    r.add_shaft(0.0, length, outer_diameter=d, E=E, density=7.8, elements=2, kelvin_voigt=beta)
+    for at in (0.0, length):
+        r.add_bearing(Bearing(at, kyy=1e11, kzz=1e11))
+    r.add_disk(length / 2, 10.0, 1e-5, 1e-5)
+    r.add_bearing(Bearing(length / 2, kyy=0.0, kzz=0.0, cyy=ce, czz=ce))
+    k = 48 * E * (np.pi * d**4 / 64) / length**3     # stiffness of the shaft at its middle
+    return r.compile(), k, 10.0
+
+
+def test_internal_damping_is_plain_damping_in_the_rotating_frame():
+    """Kelvin-Voigt damping acts on co-rotating strain rates: seen from the rotating
+    frame it adds beta K to the damping and nothing to the stiffness."""
+    with_damping, _, _ = _jeffcott(2e-4)
+    without, _, _ = _jeffcott(0.0)
+    a, b = with_damping.equations("rotating"), without.equations("rotating")
+    for ka, kb in zip(a.stiffness, b.stiffness):
+        np.testing.assert_allclose(ka, kb, rtol=0.0, atol=1e-12 * np.abs(b.stiffness[0]).max())
+    shaft = np.zeros_like(b.stiffness[0])
+    for el, idx in without.independent:
+        if el.name.startswith("shaft"):
+            shaft[np.ix_(idx, idx)] += el.stiffness[0]
+    np.testing.assert_allclose(a.damping[0] - b.damping[0], 2e-4 * shaft, rtol=1e-12, atol=1e-12 * np.abs(shaft).max())
+
+
+def test_internal_damping_threshold_is_the_jeffcott_speed():
+    """Jeffcott rotor: forward whirl turns unstable at omega_n (1 + c_e / c_i), with
+    c_i = beta k (e.g. Genta, Dynamics of Rotating Systems, 2005, sec. 6.4)."""
+    beta, ce = 2e-4, 20.0
+    model, k, m = _jeffcott(beta, ce)
+    wn = np.sqrt(k / m)
+    expected = wn * (1.0 + ce / (beta * k))
+    ds = campbell(model, np.linspace(0.0, 3.0 * wn, 601), modes=4)
+    assert ds.attrs["threshold_speed"] == pytest.approx(expected, rel=1e-3)
+    above = campbell(model, [1.05 * expected])
+    unstable = above.eigenvalue.values[0].real > 0
+    assert unstable.sum() == 1 and above.whirl.values[0][unstable][0] == "forward"

@@ -137,7 +137,7 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     (dense up to 120 coordinates or when the rotating frame is asked for). Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
-    ``speed_rpm``; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
+    ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
     speed where a mode becomes unstable, NaN if none in range). Save it with
     :func:`periodyn.results.save`."""
     if not isinstance(model, RotorModel):
@@ -165,12 +165,14 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     if values.shape[1] < modes:
         raise ConvergenceError(f"only {values.shape[1]} vibrating modes found among the eigenvalues nearest the "
                                f"origin, {modes} asked; use method='dense' or fewer modes")
+    growth = values.real.max(axis=1)            # over every mode found, kept or not
     values, forward = values[:, :modes], forward[:, :modes]
     ds = xr.Dataset(
         {"eigenvalue": (("speed", "mode"), values, {"units": "1/s", "long_name": "eigenvalue (stationary frame)"}),
          "frequency": (("speed", "mode"), values.imag, {"units": "rad/s"}),
          "damping_ratio": (("speed", "mode"), -values.real / np.abs(values), {"units": "1"}),
-         "whirl": (("speed", "mode"), np.where(forward, FORWARD, BACKWARD).astype(object))},
+         "whirl": (("speed", "mode"), np.where(forward, FORWARD, BACKWARD).astype(object)),
+         "max_real_eigenvalue": ("speed", growth, {"units": "1/s", "long_name": "largest real part of all modes"})},
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(modes),
                 "speed_rpm": ("speed", speeds * 30.0 / np.pi, {"units": "rpm"})},
         attrs={"frame": frame, "method": method, "rotor": model.name})
@@ -179,9 +181,11 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
 
 
 def stability_threshold(ds: xr.Dataset) -> float:
-    """Lowest speed (rad/s) where the largest real part of the eigenvalues crosses zero,
-    linearly interpolated between grid speeds; NaN if every speed is stable."""
-    growth = ds["eigenvalue"].values.real.max(axis=1)
+    """Lowest speed (rad/s) where the largest real part of the eigenvalues
+    (``max_real_eigenvalue``, else of the listed modes) crosses zero, linearly
+    interpolated between grid speeds; NaN if every speed is stable."""
+    growth = (ds["max_real_eigenvalue"].values if "max_real_eigenvalue" in ds
+              else ds["eigenvalue"].values.real.max(axis=1))
     speed = ds["speed"].values
     above = np.nonzero(growth >= 0.0)[0]
     if above.size == 0:

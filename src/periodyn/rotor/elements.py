@@ -27,7 +27,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["STATION_COORDINATES", "shaft_element", "Disk", "Bearing", "Seal", "PointMass", "ShaftSection"]
+__all__ = ["STATION_COORDINATES", "shaft_element", "spin_generator", "internal_damping", "Disk", "Bearing", "Seal", "PointMass", "ShaftSection"]
 
 STATION_COORDINATES = ("y", "z", "ry", "rz")
 
@@ -83,10 +83,28 @@ def shaft_element(length: float, E: float, density: float, outer_diameter: float
     return mass, half - half.T, stiffness
 
 
+def spin_generator(n: int) -> np.ndarray:
+    """S (n, n) with d/dt T(Omega t) = Omega T S for T rotating each (y, z) and (ry, rz)
+    pair by the spin angle (n even)."""
+    S = np.zeros((n, n))
+    for i in range(0, n, 2):
+        S[i, i + 1], S[i + 1, i] = -1.0, 1.0
+    return S
+
+
+def internal_damping(stiffness: np.ndarray, beta: float) -> tuple[np.ndarray, np.ndarray]:
+    """Stationary-frame damping and Omega^1 stiffness of Kelvin-Voigt damping beta (s)
+    acting in the co-rotating frame: f = -beta K (u' - Omega S u), so C = beta K and
+    K1 = -beta K S (the circulatory term behind internal-damping instability)."""
+    return beta * stiffness, -beta * stiffness @ spin_generator(stiffness.shape[0])
+
+
 @dataclass(frozen=True)
 class ShaftSection:
     """Uniform shaft from axial position ``start`` to ``end`` (m), split into ``elements``
-    equal beam elements; E (Pa), density (kg/m^3), diameters (m)."""
+    equal beam elements; E (Pa), density (kg/m^3), diameters (m); kelvin_voigt: material
+    damping time constant beta (s), sigma = E (eps + beta eps') acting on the bending
+    rates seen in the co-rotating frame (internal, rotating damping)."""
 
     start: float
     end: float
@@ -96,6 +114,7 @@ class ShaftSection:
     elements: int = 1
     inner_diameter: float = 0.0
     rotary_inertia: bool = True
+    kelvin_voigt: float = 0.0
 
     def __post_init__(self):
         if not self.end > self.start:
@@ -103,6 +122,7 @@ class ShaftSection:
         for name in ("outer_diameter", "E"):
             _positive(f"shaft section {name}", getattr(self, name))
         _positive("shaft section density", self.density, allow_zero=True)
+        _positive("shaft section kelvin_voigt", self.kelvin_voigt, allow_zero=True)
         if not 0.0 <= self.inner_diameter < self.outer_diameter:
             raise InputError(f"shaft section: inner diameter {self.inner_diameter} m must be in [0, outer diameter)")
         if int(self.elements) != self.elements or self.elements < 1:

@@ -8,7 +8,8 @@ moments of inertia force s^2 length)::
     [rotor]     name = "..."
     [units]     length = 0.0254, mass = 0.45359237, force = 4.4482216   (optional)
     [material]  E = ..., density = ...
-    [[shaft]]   start, end, outer_diameter, elements = 1, inner_diameter = 0, rotary_inertia = true
+    [[shaft]]   start, end, outer_diameter, elements = 1, inner_diameter = 0, rotary_inertia = true,
+                kelvin_voigt = 0 (s)
     [[bearing]] at, kyy, kzz, kyz = 0, kzy = 0, cyy = 0, czz = 0, cyz = 0, czy = 0
     [[seal]]    at, K, k, C, c
     [[disk]]    at, mass, polar, diametral
@@ -28,7 +29,7 @@ __all__ = ["load_rotor"]
 
 _TABLES = {"rotor": {"name"}, "units": {"length", "mass", "force"}, "material": {"E", "density"}}
 _ARRAYS = {
-    "shaft": ({"start", "end", "outer_diameter"}, {"elements", "inner_diameter", "rotary_inertia"}),
+    "shaft": ({"start", "end", "outer_diameter"}, {"elements", "inner_diameter", "rotary_inertia", "kelvin_voigt"}),
     "bearing": ({"at", "kyy", "kzz"}, {"kyz", "kzy", "cyy", "czz", "cyz", "czy"}),
     "seal": ({"at", "K", "k", "C", "c"}, set()),
     "disk": ({"at", "mass", "polar", "diametral"}, set()),
@@ -78,7 +79,7 @@ def load_rotor(path, *, elements: int | None = None) -> RotorModel:
         r.add_shaft(s["start"] * L, s["end"] * L, outer_diameter=s["outer_diameter"] * L,
                     inner_diameter=s.get("inner_diameter", 0.0) * L, E=material["E"] * f / L**2,
                     density=material["density"] * m / L**3, elements=s.get("elements", 1) * (elements or 1),
-                    rotary_inertia=s.get("rotary_inertia", True))
+                    rotary_inertia=s.get("rotary_inertia", True), kelvin_voigt=s.get("kelvin_voigt", 0.0))
     for b in _entries(data, "bearing", path):
         coefficients = {k: v * (stiffness if k[0] == "k" else damping) for k, v in b.items() if k != "at"}
         r.add_bearing(Bearing(b["at"] * L, **coefficients))

@@ -24,7 +24,8 @@ from ..linearize import independent_terms
 from ..model.elements import IndependentElement
 from ..spectra import sample_angles
 from ..system import RheoLinear
-from .elements import STATION_COORDINATES, Bearing, Disk, PointMass, ShaftSection, shaft_element
+from .elements import (STATION_COORDINATES, Bearing, Disk, PointMass, ShaftSection, internal_damping, shaft_element,
+                       spin_generator)
 
 __all__ = ["Rotor", "RotorModel", "RotorEquations"]
 
@@ -107,10 +108,9 @@ def _spin_transfer(n: int, angles: np.ndarray):
     p = angles.size
     c, s = np.cos(angles), np.sin(angles)
     T = np.zeros((p, n, n))
-    S = np.zeros((n, n))
     for i in range(0, n, 2):
         T[:, i, i], T[:, i, i + 1], T[:, i + 1, i], T[:, i + 1, i + 1] = c, -s, s, c
-        S[i, i + 1], S[i + 1, i] = -1.0, 1.0
+    S = spin_generator(n)
     return T, T @ S, T @ S @ S
 
 
@@ -125,11 +125,14 @@ class Rotor:
     parts: list = field(default_factory=list)
 
     def add_shaft(self, start: float, end: float, *, outer_diameter: float, E: float, density: float,
-                  elements: int = 1, inner_diameter: float = 0.0, rotary_inertia: bool = True) -> None:
+                  elements: int = 1, inner_diameter: float = 0.0, rotary_inertia: bool = True,
+                  kelvin_voigt: float = 0.0) -> None:
         """A uniform shaft section from ``start`` to ``end`` (m) in ``elements`` equal
-        Euler-Bernoulli elements (rotary inertia of the sections unless told)."""
+        Euler-Bernoulli elements (rotary inertia of the sections unless told), with
+        internal Kelvin-Voigt damping time constant ``kelvin_voigt`` (s)."""
         self.sections.append(ShaftSection(float(start), float(end), float(outer_diameter), float(E), float(density),
-                                          int(elements), float(inner_diameter), bool(rotary_inertia)))
+                                          int(elements), float(inner_diameter), bool(rotary_inertia),
+                                          float(kelvin_voigt)))
 
     def add_disk(self, at: float, mass: float, polar: float, diametral: float) -> None:
         """Rigid disk (kg, kg m^2, kg m^2) at axial position ``at`` (m)."""
@@ -178,10 +181,11 @@ class Rotor:
             ends = np.linspace(sec.start, sec.end, sec.elements + 1)
             M, G, K = shaft_element(ends[1] - ends[0], sec.E, sec.density, sec.outer_diameter, sec.inner_diameter,
                                     sec.rotary_inertia)
+            C, K1 = internal_damping(K, sec.kelvin_voigt)
             for a, b in zip(ends, ends[1:]):
                 i, j = station(a, "shaft element end"), station(b, "shaft element end")
                 independent.append((IndependentElement(f"shaft {a:.6g}-{b:.6g} m", names[4 * i:4 * i + 4] + names[4 * j:4 * j + 4],
-                                                       stiffness=(K,), damping=(np.zeros((8, 8)), G), mass=M),
+                                                       stiffness=(K, K1), damping=(C, G), mass=M),
                                     np.r_[4 * i:4 * i + 4, 4 * j:4 * j + 4]))
         isotropic = True
         for part in self.parts:
