@@ -20,7 +20,6 @@ import numpy as np
 
 from .errors import InputError
 from .kernels import assembly
-from .kernels.outputs import midpoint_deflection
 from .kinematics import configuration, motion, nominal_configurations
 from .system import OmegaSplitModel, RheoLinear
 
@@ -171,18 +170,18 @@ def output_maps(model, X: np.ndarray, Fd: np.ndarray | None = None) -> np.ndarra
     """Linear output maps G_j = y_x F_q^d at the configurations X (p, n_x), with
     F_q^d (p, n_x, n_d) if already known; (p, n_out, n_d)."""
     p = X.shape[0]
-    n_out = len(model.output_names)
+    n_out = len(model.outputs)
     G = np.zeros((p, n_out, model.n_dynamic))
     if n_out == 0:
         return G
     qdot = np.zeros(model.n_inputs + model.n_dynamic)
-    grad = np.empty(6)
+    tensors = assembly.allocate_tensors(model.arrays) if any(o.kind == "mode" for o in model.outputs) else None
     for j in range(p):
         Fd_j = motion(model, X[j], qdot, qdot).Fd if Fd is None else Fd[j]
-        for o in range(n_out):
-            idx = model.output_dofs[o]
-            midpoint_deflection(X[j, idx], model.output_lengths[o], grad)
-            G[j, o] = grad @ Fd_j[idx]
+        if tensors is not None:
+            assembly.element_tensors(model.arrays, X[j], *tensors)
+        for o, out in enumerate(model.outputs):
+            G[j, o] = out.gradient(X[j], None if tensors is None else tensors[1]) @ Fd_j[out.dofs]
     return G
 
 

@@ -166,6 +166,8 @@ class MidpointDeflection:
     mid: str
     reference_length: float
 
+    kind = "midpoint_deflection"
+
     def coordinates(self) -> list[str]:
         a, b = self.ends
         return [f"{a}.x", f"{a}.y", f"{self.mid}.x", f"{self.mid}.y", f"{b}.x", f"{b}.y"]

@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import InputError
 from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
 from ..kernels.assembly import ModelArrays
+from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
 from .elements import (FLEXIBLE, FREE, MODE_STATUSES, PRESCRIBED, RIGID, IndependentElement,
                        MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss)
 
@@ -44,14 +45,22 @@ def _statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, ...]:
     return modes
 
 
+def _scale(name: str, scale) -> float:
+    s = float(scale)
+    if not np.isfinite(s) or s == 0.0:
+        raise InputError(f"output '{name}': scale must be a finite non-zero number, got {scale!r}")
+    return s
+
+
 @dataclass(frozen=True, eq=False)
 class CompiledModel:
     """A model compiled for the kernels (built once per model).
 
     arrays: :class:`periodyn.kernels.assembly.ModelArrays`; coordinate_names (n_x,),
     x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
-    q^r = rates * theta, dynamic_names (n_d,), outputs (names, local coordinate
-    indices, reference lengths), independent elements (eq. 11-12).
+    q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
+    :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
+    (eq. 11-12).
     """
 
     name: str
@@ -62,11 +71,13 @@ class CompiledModel:
     input_names: tuple[str, ...]
     input_rates: np.ndarray
     dynamic_names: tuple[str, ...]
-    output_names: tuple[str, ...]
-    output_dofs: np.ndarray
-    output_lengths: np.ndarray
+    outputs: tuple[OutputMap, ...]
     independent: tuple[tuple[IndependentElement, np.ndarray], ...]
     constraint_labels: tuple[str, ...]
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.outputs)
 
     @property
     def n_coordinates(self) -> int:
@@ -221,7 +232,31 @@ class Model:
             self._check_node(p, self.points, f"output '{name}'")
         if not reference_length > 0:
             raise InputError(f"output '{name}': reference_length must be positive, got {reference_length!r}")
-        self.outputs.append(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
+        self._add_output(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
+
+    def add_coordinate_output(self, name: str, coordinate: str, scale: float = 1.0) -> None:
+        """Output: a nodal coordinate (``"<point>.x"``, an angle) divided by ``scale``."""
+        self._check_coordinate(coordinate, f"output '{name}'")
+        self._add_output(CoordinateOutput(name, coordinate, _scale(name, scale)))
+
+    def add_relative_rotation(self, name: str, angles: tuple[str, str]) -> None:
+        """Output: rotation of angle node ``angles[1]`` relative to ``angles[0]`` (rad)."""
+        for a in angles:
+            self._check_node(a, self.angles, f"output '{name}'")
+        self._add_output(RelativeRotation(name, tuple(angles)))
+
+    def add_mode_output(self, name: str, mode: str, scale: float = 1.0) -> None:
+        """Output: a deformation mode ``"<element>.<mode>"`` divided by ``scale``."""
+        if mode.count(".") != 1 or mode.split(".")[0] not in {e.name for e in self.elements}:
+            raise InputError(f"output '{name}': '{mode}' is not a mode '<element>.<mode>' of an existing element")
+        element, index = self._mode(mode)
+        self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
+                                    _scale(name, scale)))
+
+    def _add_output(self, output) -> None:
+        if any(o.name == output.name for o in self.outputs):
+            raise InputError(f"output '{output.name}' is defined twice; output names must be unique")
+        self.outputs.append(output)
 
     def add_independent(self, element: IndependentElement) -> None:
         """An independently modelled element (eq. 11-12), added to the linearized equations."""
@@ -375,11 +410,12 @@ class Model:
         arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, mass, weights, rotary,
                              np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
                              len(input_names), nodal_mass, nodal_force)
-        out_dofs = np.array([[index[c] for c in o.coordinates()] for o in self.outputs], dtype=np.int64).reshape(-1, 6)
-        out_len = np.array([o.reference_length for o in self.outputs])
+        outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
+                                  getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
+                                  getattr(o, "index", -1)) for o in self.outputs)
         independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
         compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                                  np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),
-                                 tuple(o.name for o in self.outputs), out_dofs, out_len, independent, tuple(labels))
+                                 outputs, independent, tuple(labels))
         check_constraints(compiled)
         return compiled
