@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from ..errors import InputError
 from ..rotor import Bearing, Rotor, Seal
 
 INCH = 0.0254          # m
@@ -24,10 +25,9 @@ def rotor(elements: int = 5, rotary_inertia: bool = True):
     ``elements`` equal Euler-Bernoulli elements (a multiple of 5 so that stations fall
     at every 10 in); isotropic bearings (100 000 lbf/in) at 0 and 10 in; the seal of
     eq. (30) at 20 in with 6.68 kg of added mass; disks at 40 and 50 in."""
-    if elements % 5:
-        from ..errors import InputError
-        raise InputError(f"elements must be a multiple of 5 so that stations fall at the bearings, seal and disks; "
-                         f"got {elements}")
+    if not isinstance(elements, int) or elements < 5 or elements % 5:
+        raise InputError(f"elements must be a positive multiple of 5 so that stations fall at the bearings, seal and "
+                         f"disks; got {elements!r}")
     stiffness = POUND_FORCE / INCH                       # lbf/in -> N/m
     damping = POUND_FORCE / INCH                         # lbf s/in -> N s/m
     r = Rotor("rotor")

@@ -18,38 +18,11 @@ import numpy as np
 from ..errors import InputError
 from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
 from ..kernels.assembly import ModelArrays
-from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
-from .elements import (FLEXIBLE, FREE, MODE_STATUSES, PRESCRIBED, RIGID, IndependentElement,
-                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss)
+from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation, check_scale
+from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
+                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
 
 __all__ = ["Model", "CompiledModel"]
-
-
-def _statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, ...]:
-    if modes is None:
-        return (RIGID,) * len(mode_names)
-    if isinstance(modes, str):
-        modes = (modes,) * len(mode_names)
-    if isinstance(modes, dict):
-        unknown = set(modes) - set(mode_names)
-        if unknown:
-            raise InputError(f"element '{name}' has no mode(s) {sorted(unknown)}; its modes are {list(mode_names)}")
-        modes = tuple(modes.get(m, RIGID) for m in mode_names)
-    modes = tuple(modes)
-    if len(modes) != len(mode_names):
-        raise InputError(f"element '{name}' needs {len(mode_names)} mode statuses {list(mode_names)}, got {len(modes)}")
-    for m in modes:
-        if m not in MODE_STATUSES:
-            raise InputError(f"element '{name}': mode status {m!r} unknown; use one of {MODE_STATUSES} "
-                             "(use Model.prescribe for an input mode)")
-    return modes
-
-
-def _scale(name: str, scale) -> float:
-    s = float(scale)
-    if not np.isfinite(s) or s == 0.0:
-        raise InputError(f"output '{name}': scale must be a finite non-zero number, got {scale!r}")
-    return s
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,14 +128,14 @@ class Model:
                  kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
         """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
         a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
-        st = _statuses(name, modes, PlanarBeam.mode_names)
+        st = mode_statuses(name, modes, PlanarBeam.mode_names)
         return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
                                     float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))
 
     def add_truss(self, name: str, points: tuple[str, str], *, mode: str = RIGID, EA: float = 0.0,
                   mass_per_length: float = 0.0, kelvin_voigt: float = 0.0) -> str:
         """Planar truss; mode: status of its elongation."""
-        st = _statuses(name, (mode,), PlanarTruss.mode_names)
+        st = mode_statuses(name, (mode,), PlanarTruss.mode_names)
         return self._add(PlanarTruss(name, tuple(points), st, float(EA), float(mass_per_length),
                                      float(kelvin_voigt)))
 
@@ -170,7 +143,7 @@ class Model:
                   damping: float = 0.0) -> str:
         """Planar hinge between two angle nodes; mode: status of the relative rotation
         (default free: follows from the kinematics, with its spring/damper)."""
-        st = _statuses(name, (mode,), PlanarHinge.mode_names)
+        st = mode_statuses(name, (mode,), PlanarHinge.mode_names)
         return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping)))
 
     # ------------------------------------------------------------------ masses and loads
@@ -237,7 +210,7 @@ class Model:
     def add_coordinate_output(self, name: str, coordinate: str, scale: float = 1.0) -> None:
         """Output: a nodal coordinate (``"<point>.x"``, an angle) divided by ``scale``."""
         self._check_coordinate(coordinate, f"output '{name}'")
-        self._add_output(CoordinateOutput(name, coordinate, _scale(name, scale)))
+        self._add_output(CoordinateOutput(name, coordinate, check_scale(name, scale)))
 
     def add_relative_rotation(self, name: str, angles: tuple[str, str]) -> None:
         """Output: rotation of angle node ``angles[1]`` relative to ``angles[0]`` (rad)."""
@@ -251,7 +224,7 @@ class Model:
             raise InputError(f"output '{name}': '{mode}' is not a mode '<element>.<mode>' of an existing element")
         element, index = self._mode(mode)
         self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
-                                    _scale(name, scale)))
+                                    check_scale(name, scale)))
 
     def _add_output(self, output) -> None:
         if any(o.name == output.name for o in self.outputs):

@@ -14,9 +14,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..kernels.outputs import midpoint_deflection
 
 __all__ = ["CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap"]
+
+def check_scale(name: str, scale) -> float:
+    """scale as a float; InputError unless finite and non-zero."""
+    s = float(scale)
+    if not np.isfinite(s) or s == 0.0:
+        raise InputError(f"output '{name}': scale must be a finite non-zero number, got {scale!r}")
+    return s
+
 
 KINDS = ("midpoint_deflection", "coordinate", "relative_rotation", "mode")
 
