@@ -177,3 +177,16 @@ def test_bad_outputs_are_named():
         m.add_relative_rotation("r", ("a0", "Q"))
     with pytest.raises(InputError, match="element 'b2' has no mode 'twist'"):
         m.add_mode_output("m", "b2.twist")
+
+
+def test_warm_started_configuration_matches_the_continued_one():
+    """A configuration continued from a nearby solved one (one Newton solve) equals the
+    one continued from the reference; a bad start is refused."""
+    model = slider_crank_model()
+    qd = np.array([0.01, -0.02, 0.005, 0.03])
+    near = configuration(model, 1.0, 0.9 * qd)
+    warm = configuration(model, 1.1, qd, start=(near, 1.0, 0.9 * qd))
+    cold = configuration(model, 1.1, qd)
+    np.testing.assert_allclose(warm, cold, rtol=0.0, atol=1e-12)
+    with pytest.raises(InputError, match="start: x must have shape"):
+        configuration(model, 1.1, qd, start=(near[:3], 1.0, qd))

@@ -9,8 +9,10 @@ one of amplitude |a - i b|, rotating at +Im(lambda) and -Im(lambda). In the co-r
 frame the forward circle of each eigenvalue is seen from the stationary frame at
 ``lambda + i Omega``: taking, of each conjugate pair, the member whose forward content
 dominates and adding i Omega converts the eigenvalue; a negative frequency then means
-backward whirl (Schwab & Meijaard 2001, section 4.3). In the stationary frame the member
-with positive frequency is kept and its whirl is the dominant circle.
+backward whirl (Schwab & Meijaard 2001, section 4.3). A real co-rotating eigenvalue
+(overdamped; for an isotropic rotor they come in equal pairs) is a forward whirl at the
+spin speed. In the stationary frame the member with positive frequency is kept and its
+whirl is the dominant circle.
 """
 
 from __future__ import annotations
