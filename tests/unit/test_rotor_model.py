@@ -224,3 +224,34 @@ def test_internal_damping_threshold_is_the_jeffcott_speed():
     above = campbell(model, [1.05 * expected])
     unstable = above.eigenvalue.values[0].real > 0
     assert unstable.sum() == 1 and above.whirl.values[0][unstable][0] == "forward"
+
+
+def test_spring_between_stations_acts_on_their_relative_displacement():
+    """A lateral spring k between two stations adds [[k, -k], [-k, k]] to their y and
+    z stiffness and nothing else; a spring to the same or a missing station is refused."""
+    r = Rotor("coupled")
+    r.add_shaft(0.0, 0.2, outer_diameter=D, E=E, density=RHO, elements=1)
+    r.add_shaft(0.2, 0.4, outer_diameter=D, E=E, density=RHO, elements=1)
+    for at in (0.0, 0.4):
+        r.add_bearing(Bearing(at, kyy=1e6, kzz=1e6))
+    r.add_bearing(Bearing(0.2, kyy=3e5, kzz=3e5, cyy=10.0, czz=10.0, to=0.4))
+    model = r.compile()
+    plain = Rotor("plain")
+    plain.add_shaft(0.0, 0.2, outer_diameter=D, E=E, density=RHO, elements=1)
+    plain.add_shaft(0.2, 0.4, outer_diameter=D, E=E, density=RHO, elements=1)
+    for at in (0.0, 0.4):
+        plain.add_bearing(Bearing(at, kyy=1e6, kzz=1e6))
+    K = model.equations("stationary").stiffness[0] - plain.compile().equations("stationary").stiffness[0]
+    mid, end = model.coordinate_names.index("s1.y"), model.coordinate_names.index("s2.y")
+    expected = np.zeros_like(K)
+    for a, sa in ((mid, 1.0), (end, -1.0)):
+        for b, sb in ((mid, 1.0), (end, -1.0)):
+            expected[a, b] = expected[a + 1, b + 1] = sa * sb * 3e5
+    np.testing.assert_allclose(K, expected, atol=1e-6)
+    with pytest.raises(InputError, match="'to' must be another station"):
+        Bearing(0.2, kyy=1.0, kzz=1.0, to=0.2)
+    with pytest.raises(InputError, match=r"bearing end 'to' at 0.3 m is not on a station"):
+        bad = Rotor("bad")
+        bad.add_shaft(0.0, 0.4, outer_diameter=D, E=E, density=RHO, elements=2)
+        bad.add_bearing(Bearing(0.2, kyy=1.0, kzz=1.0, to=0.3))
+        bad.compile()

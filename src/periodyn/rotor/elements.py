@@ -168,7 +168,8 @@ class Bearing:
     ``f = -K [y, z] - C [y', z']`` with K = [[kyy, kyz], [kzy, kzz]] (N/m) and
     C = [[cyy, cyz], [czy, czz]] (N s/m). Cross-coupling is allowed; isotropic means
     K and C of the form [[a, b], [-b, a]] (then the bearing looks the same from the
-    co-rotating frame)."""
+    co-rotating frame). With ``to`` (m) it is a spring/damper on the displacement of
+    station ``at`` relative to station ``to`` instead of to ground."""
 
     at: float
     kyy: float
@@ -179,6 +180,7 @@ class Bearing:
     czz: float = 0.0
     cyz: float = 0.0
     czy: float = 0.0
+    to: float | None = None
 
     def __post_init__(self):
         values = (self.kyy, self.kzz, self.kyz, self.kzy, self.cyy, self.czz, self.cyz, self.czy)
@@ -186,15 +188,23 @@ class Bearing:
             raise InputError(f"bearing at {self.at} m: coefficients must be finite numbers, got {values}")
         if self.kyy < 0 or self.kzz < 0 or self.cyy < 0 or self.czz < 0:
             raise InputError(f"bearing at {self.at} m: direct stiffness and damping must be non-negative")
+        if self.to is not None and self.to == self.at:
+            raise InputError(f"bearing at {self.at} m: 'to' must be another station (or None for ground)")
 
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
-        """Stiffness and damping (2, 2) on (y, z)."""
-        return (np.array([[self.kyy, self.kyz], [self.kzy, self.kzz]]),
-                np.array([[self.cyy, self.cyz], [self.czy, self.czz]]))
+        """Stiffness and damping on (y, z) at ``at`` (2, 2), or on (y, z) at ``at`` then
+        at ``to`` (4, 4) for a relative spring/damper."""
+        K = np.array([[self.kyy, self.kyz], [self.kzy, self.kzz]])
+        C = np.array([[self.cyy, self.cyz], [self.czy, self.czz]])
+        if self.to is None:
+            return K, C
+        relative = np.array([[1.0, -1.0], [-1.0, 1.0]])
+        return np.kron(relative, K), np.kron(relative, C)
 
     @property
     def isotropic(self) -> bool:
         K, C = self.matrices()
+        K, C = K[:2, :2], C[:2, :2]
         return all(np.isclose(A[0, 0], A[1, 1]) and np.isclose(A[0, 1], -A[1, 0]) for A in (K, C))
 
 

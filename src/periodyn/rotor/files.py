@@ -10,7 +10,7 @@ moments of inertia force s^2 length)::
     [material]  E = ..., density = ...
     [[shaft]]   start, end, outer_diameter, elements = 1, inner_diameter = 0, rotary_inertia = true,
                 kelvin_voigt = 0 (s)
-    [[bearing]] at, kyy, kzz, kyz = 0, kzy = 0, cyy = 0, czz = 0, cyz = 0, czy = 0
+    [[bearing]] at, kyy, kzz, kyz = 0, kzy = 0, cyy = 0, czz = 0, cyz = 0, czy = 0, to (station)
     [[seal]]    at, K, k, C, c
     [[disk]]    at, mass, polar, diametral
     [[mass]]    at, mass
@@ -30,7 +30,7 @@ __all__ = ["load_rotor"]
 _TABLES = {"rotor": {"name"}, "units": {"length", "mass", "force"}, "material": {"E", "density"}}
 _ARRAYS = {
     "shaft": ({"start", "end", "outer_diameter"}, {"elements", "inner_diameter", "rotary_inertia", "kelvin_voigt"}),
-    "bearing": ({"at", "kyy", "kzz"}, {"kyz", "kzy", "cyy", "czz", "cyz", "czy"}),
+    "bearing": ({"at", "kyy", "kzz"}, {"kyz", "kzy", "cyy", "czz", "cyz", "czy", "to"}),
     "seal": ({"at", "K", "k", "C", "c"}, set()),
     "disk": ({"at", "mass", "polar", "diametral"}, set()),
     "mass": ({"at", "mass"}, set()),
@@ -81,8 +81,8 @@ def load_rotor(path, *, elements: int | None = None) -> RotorModel:
                     density=material["density"] * m / L**3, elements=s.get("elements", 1) * (elements or 1),
                     rotary_inertia=s.get("rotary_inertia", True), kelvin_voigt=s.get("kelvin_voigt", 0.0))
     for b in _entries(data, "bearing", path):
-        coefficients = {k: v * (stiffness if k[0] == "k" else damping) for k, v in b.items() if k != "at"}
-        r.add_bearing(Bearing(b["at"] * L, **coefficients))
+        coefficients = {k: v * (stiffness if k[0] == "k" else damping) for k, v in b.items() if k not in ("at", "to")}
+        r.add_bearing(Bearing(b["at"] * L, **coefficients, to=b["to"] * L if "to" in b else None))
     for s in _entries(data, "seal", path):
         r.add_bearing(Seal(s["at"] * L, K=s["K"] * stiffness, k=s["k"] * stiffness, C=s["C"] * damping, c=s["c"] * damping))
     for d in _entries(data, "disk", path):

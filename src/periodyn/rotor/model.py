@@ -200,8 +200,13 @@ class Rotor:
             else:
                 K, C = part.matrices()
                 isotropic &= part.isotropic
-                el = IndependentElement(f"bearing at {part.at:.6g} m", names[4 * i:4 * i + 2], stiffness=(K,), damping=(C,))
-                independent.append((el, np.arange(4 * i, 4 * i + 2)))
+                idx = np.arange(4 * i, 4 * i + 2)
+                if part.to is not None:
+                    j = station(part.to, "bearing end 'to'")
+                    idx = np.r_[idx, 4 * j:4 * j + 2]
+                el = IndependentElement(f"bearing at {part.at:.6g} m", tuple(names[k] for k in idx),
+                                        stiffness=(K,), damping=(C,))
+                independent.append((el, idx))
         model = RotorModel(self.name, x, names, tuple(independent), bool(isotropic))
         _check_mass(model)
         return model
