@@ -60,13 +60,16 @@ def _raise_failure(model, info_row, what: str):
         "or use more samples so the continuation steps are smaller", residual=float(info_row[1]))
 
 
-def _track(model, q_targets: np.ndarray, labels) -> np.ndarray:
+def _track(model, q_targets: np.ndarray, labels, x0=None, q0=None) -> np.ndarray:
+    """Follow the configuration through q_targets (p, n_q) from (x0, q0), by default
+    the reference configuration."""
     arr = model.arrays
     p = q_targets.shape[0]
     X = np.empty((p, model.n_coordinates))
     info = np.zeros((p, 2))
-    q0 = np.zeros(model.n_inputs + model.n_dynamic)
-    failed = assembly.track(arr, model.x_reference.copy(), q0, np.ascontiguousarray(q_targets, dtype=float),
+    x0 = model.x_reference.copy() if x0 is None else np.array(x0, dtype=float)
+    q0 = np.zeros(model.n_inputs + model.n_dynamic) if q0 is None else np.asarray(q0, dtype=float)
+    failed = assembly.track(arr, x0, q0, np.ascontiguousarray(q_targets, dtype=float),
                             _tolerance(model), NEWTON_MAX_ITER, MAX_HALVINGS, X, info)
     if failed >= 0:
         _raise_failure(model, info[failed], labels(failed))
@@ -82,17 +85,31 @@ def nominal_configurations(model, samples: int) -> np.ndarray:
     return _track(model, q, lambda j: f"crank angle theta = {theta[j]:.6g} rad (sample {j})")
 
 
-def configuration(model, theta: float, qd=None, steps: int = 8) -> np.ndarray:
-    """Nodal coordinates x = F(q) (n_x,) at crank angle theta (rad) and dynamic
-    coordinates qd (n_d,), continued from the reference configuration in ``steps``
-    straight steps in q."""
+def _dynamic(model, qd) -> np.ndarray:
     qd = np.zeros(model.n_dynamic) if qd is None else np.asarray(qd, dtype=float)
     if qd.shape != (model.n_dynamic,):
         raise InputError(f"qd must have shape ({model.n_dynamic},) for the dynamic coordinates "
                          f"{list(model.dynamic_names)}, got {qd.shape}")
+    return qd
+
+
+def configuration(model, theta: float, qd=None, steps: int | None = None, *, start=None) -> np.ndarray:
+    """Nodal coordinates x = F(q) (n_x,) at crank angle theta (rad) and dynamic
+    coordinates qd (n_d,), continued in ``steps`` straight steps in q from the reference
+    configuration (default 8 steps) or, warm-started, from ``start = (x, theta, qd)``, a
+    solved configuration near the target (default 1 step; Newton halves steps that fail)."""
+    qd = _dynamic(model, qd)
     target = np.concatenate([model.inputs(theta), qd])
-    path = np.outer(np.arange(1, steps + 1) / steps, target)
-    return _track(model, path, lambda j: f"theta = {theta:.6g} rad, q^d = {qd.tolist()}")[-1]
+    if start is None:
+        x0, q0, steps = None, np.zeros_like(target), steps or 8
+    else:
+        x0, theta0, qd0 = start
+        x0 = np.asarray(x0, dtype=float)
+        if x0.shape != (model.n_coordinates,):
+            raise InputError(f"start: x must have shape ({model.n_coordinates},), got {x0.shape}")
+        q0, steps = np.concatenate([model.inputs(theta0), _dynamic(model, qd0)]), steps or 1
+    path = q0 + np.outer(np.arange(1, steps + 1) / steps, target - q0)
+    return _track(model, path, lambda j: f"theta = {theta:.6g} rad, q^d = {qd.tolist()}", x0, q0)[-1]
 
 
 @dataclass(frozen=True)

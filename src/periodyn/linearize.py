@@ -20,11 +20,10 @@ import numpy as np
 
 from .errors import InputError
 from .kernels import assembly
-from .kernels.outputs import midpoint_deflection
 from .kinematics import configuration, motion, nominal_configurations
 from .system import OmegaSplitModel, RheoLinear
 
-__all__ = ["LinearizedSamples", "linearize", "rheo_linear", "omega_split", "output_maps", "reduced_residual"]
+__all__ = ["LinearizedSamples", "independent_terms", "linearize", "rheo_linear", "omega_split", "output_maps", "reduced_residual"]
 
 
 @dataclass(frozen=True)
@@ -76,18 +75,19 @@ def _element_coefficients(el, k: int):
             [np.asarray(c, dtype=float).reshape(k, k) for c in el.stiffness], force)
 
 
-def _add_independent(model, Fd, Fdv, Fda, omega):
-    """Eq. (11-12) for every independent element, as polynomials in omega.
+def independent_terms(independent, Fd, Fdv, Fda):
+    """Eq. (11-12) for independent elements [(element, coordinate indices)], as
+    polynomials in omega.
 
-    Fd (p, n_x, n_d); Fdv, Fda at unit input speed (they scale with omega, omega^2).
-    Returns mass (p,nd,nd), damping [w^0, w^1], stiffness [w^0, w^1, w^2] (each
-    (p,nd,nd)) and force (p,nd); if omega is given, the powers are summed."""
+    Fd (p, n_x, n_d) = F_q^d; Fdv, Fda at unit input speed (they scale with omega,
+    omega^2). Returns mass (p,nd,nd), damping [w^0, w^1], stiffness [w^0, w^1, w^2]
+    (each (p,nd,nd)) and force (p,nd)."""
     p, _, nd = Fd.shape
     M = np.zeros((p, nd, nd))
     C = [np.zeros((p, nd, nd)) for _ in range(2)]
     K = [np.zeros((p, nd, nd)) for _ in range(3)]
     f = np.zeros((p, nd))
-    for el, idx in model.independent:
+    for el, idx in independent:
         Me, Ce, Ke, fe = _element_coefficients(el, len(idx))
         A, Av, Aa = Fd[:, idx], Fdv[:, idx], Fda[:, idx]   # (p, k, nd)
         At = np.swapaxes(A, 1, 2)
@@ -100,6 +100,13 @@ def _add_independent(model, Fd, Fdv, Fda, omega):
             K[power + 1] += At @ Cp @ Av
         for power, Kp in enumerate(Ke):
             K[power] += At @ Kp @ A
+    return M, C, K, f
+
+
+def _add_independent(model, Fd, Fdv, Fda, omega):
+    """:func:`independent_terms` of the model's independent elements; if omega is
+    given, the powers are summed."""
+    M, C, K, f = independent_terms(model.independent, Fd, Fdv, Fda)
     if omega is None:
         return M, C, K, f
     return M, C[0] + omega * C[1], K[0] + omega * K[1] + omega**2 * K[2], f
@@ -163,18 +170,18 @@ def output_maps(model, X: np.ndarray, Fd: np.ndarray | None = None) -> np.ndarra
     """Linear output maps G_j = y_x F_q^d at the configurations X (p, n_x), with
     F_q^d (p, n_x, n_d) if already known; (p, n_out, n_d)."""
     p = X.shape[0]
-    n_out = len(model.output_names)
+    n_out = len(model.outputs)
     G = np.zeros((p, n_out, model.n_dynamic))
     if n_out == 0:
         return G
     qdot = np.zeros(model.n_inputs + model.n_dynamic)
-    grad = np.empty(6)
+    tensors = assembly.allocate_tensors(model.arrays) if any(o.kind == "mode" for o in model.outputs) else None
     for j in range(p):
         Fd_j = motion(model, X[j], qdot, qdot).Fd if Fd is None else Fd[j]
-        for o in range(n_out):
-            idx = model.output_dofs[o]
-            midpoint_deflection(X[j, idx], model.output_lengths[o], grad)
-            G[j, o] = grad @ Fd_j[idx]
+        if tensors is not None:
+            assembly.element_tensors(model.arrays, X[j], *tensors)
+        for o, out in enumerate(model.outputs):
+            G[j, o] = out.gradient(X[j], None if tensors is None else tensors[1]) @ Fd_j[out.dofs]
     return G
 
 

@@ -119,3 +119,74 @@ def test_transfer_derivatives_at_nonzero_deformation_by_finite_differences():
     H = 1e-3
     Fd_at = lambda th: motion(model, F(th, qd), np.zeros(5), np.zeros(5)).Fd
     np.testing.assert_allclose(mo.Fda, (Fd_at(theta + H) - 2 * mo.Fd + Fd_at(theta - H)) / H**2, atol=2e-5)
+
+
+def _flexible_arm():
+    """Two flexible beams O-P-Q driven by a prescribed angle at O, with one output of
+    every kind."""
+    m = Model(name="arm")
+    for name, x in (("O", 0.0), ("P", 0.2), ("Q", 0.4)):
+        m.add_point(name, (x, 0.0))
+    for a in ("a0", "a1", "a2"):
+        m.add_angle(a)
+    for name, pts, angs in (("b1", ("O", "P"), ("a0", "a1")), ("b2", ("P", "Q"), ("a1", "a2"))):
+        m.add_beam(name, pts, angs, modes=("rigid", "flexible", "flexible"), EI=3.0, mass_per_length=0.5)
+    m.fix("O")
+    m.prescribe("a0")
+    m.add_midpoint_deflection("mid", ("O", "Q"), "P", 0.4)
+    m.add_coordinate_output("tip_y", "Q.y", scale=0.5)
+    m.add_relative_rotation("tip_rotation", ("a0", "a2"))
+    m.add_mode_output("b2_end", "b2.bending_q", scale=2.0)
+    return m
+
+
+def test_outputs_chosen_by_the_model_linearize_their_functionals():
+    """G q^d equals the change of each output for a small q^d (finite differences of the
+    Newton solution); a flexible mode's output row is the unit vector over its scale."""
+    from periodyn.kernels.outputs import midpoint_deflection
+    from periodyn.linearize import output_maps
+
+    model = _flexible_arm().compile()
+    assert model.output_names == ("mid", "tip_y", "tip_rotation", "b2_end")
+    names = {c: i for i, c in enumerate(model.coordinate_names)}
+    theta = 0.7
+    X = configuration(model, theta)[None]
+    G = output_maps(model, X)[0]
+    qd = 1e-6 * np.array([1.0, -2.0, 0.5, 3.0])
+
+    def values(x):
+        mid = midpoint_deflection(x[model.outputs[0].dofs], 0.4, np.empty(6))
+        return np.array([mid, x[names["Q.y"]] / 0.5, x[names["a2"]] - x[names["a0"]]])
+
+    change = values(configuration(model, theta, qd)) - values(X[0])
+    np.testing.assert_allclose(change, G[:3] @ qd, rtol=1e-5)
+    unit = np.zeros(4)
+    unit[model.dynamic_names.index("b2.bending_q")] = 0.5
+    np.testing.assert_allclose(G[3], unit, atol=1e-12)
+
+
+def test_bad_outputs_are_named():
+    m = _flexible_arm()
+    with pytest.raises(InputError, match="output 'tip_y' is defined twice"):
+        m.add_coordinate_output("tip_y", "Q.x")
+    with pytest.raises(InputError, match="unknown nodal coordinate 'Q.z'"):
+        m.add_coordinate_output("z", "Q.z")
+    with pytest.raises(InputError, match="scale must be a finite non-zero number"):
+        m.add_coordinate_output("x", "Q.x", scale=0.0)
+    with pytest.raises(InputError, match="unknown angle node 'Q'"):
+        m.add_relative_rotation("r", ("a0", "Q"))
+    with pytest.raises(InputError, match="element 'b2' has no mode 'twist'"):
+        m.add_mode_output("m", "b2.twist")
+
+
+def test_warm_started_configuration_matches_the_continued_one():
+    """A configuration continued from a nearby solved one (one Newton solve) equals the
+    one continued from the reference; a bad start is refused."""
+    model = slider_crank_model()
+    qd = np.array([0.01, -0.02, 0.005, 0.03])
+    near = configuration(model, 1.0, 0.9 * qd)
+    warm = configuration(model, 1.1, qd, start=(near, 1.0, 0.9 * qd))
+    cold = configuration(model, 1.1, qd)
+    np.testing.assert_allclose(warm, cold, rtol=0.0, atol=1e-12)
+    with pytest.raises(InputError, match="start: x must have shape"):
+        configuration(model, 1.1, qd, start=(near[:3], 1.0, qd))

@@ -93,7 +93,7 @@ def test_split_output_maps_give_the_linearized_midpoint_deflection():
     model = slider_crank_model()
     split = slider_crank(0.02, 16)
     qd = 1e-6 * np.array([1.0, -2.0, 0.5, 3.0])
-    idx = model.output_dofs[0]
+    idx = model.outputs[0].dofs
     for j in (0, 5):
         theta = 2 * np.pi * j / 16
         y = midpoint_deflection(configuration(model, theta, qd)[idx], 0.3, np.empty(6))

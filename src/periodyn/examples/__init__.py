@@ -4,7 +4,8 @@ from .chain import parametric_chain
 from .dae_examples import duffing, inverted_pendulum, rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
 from .elliptic_pendulum import pendulum_from_elements
 from .pendulum import pendulum, pendulum_nonlinear
+from .rotor import rotor
 from .slider_crank import slider_crank
 
 __all__ = ["duffing", "inverted_pendulum", "parametric_chain", "pendulum", "pendulum_from_elements", "pendulum_nonlinear",
-           "rod_pendulum", "slider_chain_pendulum", "slider_crank", "slider_rod_pendulum"]
+           "rod_pendulum", "rotor", "slider_chain_pendulum", "slider_crank", "slider_rod_pendulum"]

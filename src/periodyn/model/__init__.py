@@ -3,6 +3,8 @@
 from .elements import (FLEXIBLE, FREE, RIGID, IndependentElement, MidpointDeflection, PlanarBeam,
                        PlanarHinge, PlanarTruss)
 from .model import CompiledModel, Model
+from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
 
 __all__ = ["Model", "CompiledModel", "PlanarBeam", "PlanarTruss", "PlanarHinge", "MidpointDeflection",
-           "IndependentElement", "RIGID", "FLEXIBLE", "FREE"]
+           "IndependentElement", "RIGID", "FLEXIBLE", "FREE",
+           "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap"]

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
 from ..kernels.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS
 
 RIGID, FLEXIBLE, FREE, PRESCRIBED = "rigid", "flexible", "free", "prescribed"
@@ -16,6 +17,28 @@ MODE_STATUSES = (RIGID, FLEXIBLE, FREE)
 """Statuses a user gives per mode: rigid (constrained to zero), flexible (a dynamic
 degree of freedom with its constitutive law), free (follows from the kinematics, keeps
 its constitutive law, e.g. a damped hinge). ``prescribed`` is set by Model.prescribe."""
+
+
+def mode_statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, ...]:
+    """Validated statuses per mode from a tuple, a dict by mode name or one string
+    (None: all rigid)."""
+    if modes is None:
+        return (RIGID,) * len(mode_names)
+    if isinstance(modes, str):
+        modes = (modes,) * len(mode_names)
+    if isinstance(modes, dict):
+        unknown = set(modes) - set(mode_names)
+        if unknown:
+            raise InputError(f"element '{name}' has no mode(s) {sorted(unknown)}; its modes are {list(mode_names)}")
+        modes = tuple(modes.get(m, RIGID) for m in mode_names)
+    modes = tuple(modes)
+    if len(modes) != len(mode_names):
+        raise InputError(f"element '{name}' needs {len(mode_names)} mode statuses {list(mode_names)}, got {len(modes)}")
+    for m in modes:
+        if m not in MODE_STATUSES:
+            raise InputError(f"element '{name}': mode status {m!r} unknown; use one of {MODE_STATUSES} "
+                             "(use Model.prescribe for an input mode)")
+    return modes
 
 
 def _gauss_integrals(shape_functions, order: int = 6) -> tuple[np.ndarray, np.ndarray]:
@@ -165,6 +188,8 @@ class MidpointDeflection:
     ends: tuple[str, str]
     mid: str
     reference_length: float
+
+    kind = "midpoint_deflection"
 
     def coordinates(self) -> list[str]:
         a, b = self.ends

@@ -18,30 +18,11 @@ import numpy as np
 from ..errors import InputError
 from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
 from ..kernels.assembly import ModelArrays
-from .elements import (FLEXIBLE, FREE, MODE_STATUSES, PRESCRIBED, RIGID, IndependentElement,
-                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss)
+from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation, check_scale
+from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
+                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
 
 __all__ = ["Model", "CompiledModel"]
-
-
-def _statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, ...]:
-    if modes is None:
-        return (RIGID,) * len(mode_names)
-    if isinstance(modes, str):
-        modes = (modes,) * len(mode_names)
-    if isinstance(modes, dict):
-        unknown = set(modes) - set(mode_names)
-        if unknown:
-            raise InputError(f"element '{name}' has no mode(s) {sorted(unknown)}; its modes are {list(mode_names)}")
-        modes = tuple(modes.get(m, RIGID) for m in mode_names)
-    modes = tuple(modes)
-    if len(modes) != len(mode_names):
-        raise InputError(f"element '{name}' needs {len(mode_names)} mode statuses {list(mode_names)}, got {len(modes)}")
-    for m in modes:
-        if m not in MODE_STATUSES:
-            raise InputError(f"element '{name}': mode status {m!r} unknown; use one of {MODE_STATUSES} "
-                             "(use Model.prescribe for an input mode)")
-    return modes
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,8 +31,9 @@ class CompiledModel:
 
     arrays: :class:`periodyn.kernels.assembly.ModelArrays`; coordinate_names (n_x,),
     x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
-    q^r = rates * theta, dynamic_names (n_d,), outputs (names, local coordinate
-    indices, reference lengths), independent elements (eq. 11-12).
+    q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
+    :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
+    (eq. 11-12).
     """
 
     name: str
@@ -62,11 +44,13 @@ class CompiledModel:
     input_names: tuple[str, ...]
     input_rates: np.ndarray
     dynamic_names: tuple[str, ...]
-    output_names: tuple[str, ...]
-    output_dofs: np.ndarray
-    output_lengths: np.ndarray
+    outputs: tuple[OutputMap, ...]
     independent: tuple[tuple[IndependentElement, np.ndarray], ...]
     constraint_labels: tuple[str, ...]
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return tuple(o.name for o in self.outputs)
 
     @property
     def n_coordinates(self) -> int:
@@ -144,14 +128,14 @@ class Model:
                  kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
         """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
         a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
-        st = _statuses(name, modes, PlanarBeam.mode_names)
+        st = mode_statuses(name, modes, PlanarBeam.mode_names)
         return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
                                     float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))
 
     def add_truss(self, name: str, points: tuple[str, str], *, mode: str = RIGID, EA: float = 0.0,
                   mass_per_length: float = 0.0, kelvin_voigt: float = 0.0) -> str:
         """Planar truss; mode: status of its elongation."""
-        st = _statuses(name, (mode,), PlanarTruss.mode_names)
+        st = mode_statuses(name, (mode,), PlanarTruss.mode_names)
         return self._add(PlanarTruss(name, tuple(points), st, float(EA), float(mass_per_length),
                                      float(kelvin_voigt)))
 
@@ -159,7 +143,7 @@ class Model:
                   damping: float = 0.0) -> str:
         """Planar hinge between two angle nodes; mode: status of the relative rotation
         (default free: follows from the kinematics, with its spring/damper)."""
-        st = _statuses(name, (mode,), PlanarHinge.mode_names)
+        st = mode_statuses(name, (mode,), PlanarHinge.mode_names)
         return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping)))
 
     # ------------------------------------------------------------------ masses and loads
@@ -221,7 +205,31 @@ class Model:
             self._check_node(p, self.points, f"output '{name}'")
         if not reference_length > 0:
             raise InputError(f"output '{name}': reference_length must be positive, got {reference_length!r}")
-        self.outputs.append(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
+        self._add_output(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
+
+    def add_coordinate_output(self, name: str, coordinate: str, scale: float = 1.0) -> None:
+        """Output: a nodal coordinate (``"<point>.x"``, an angle) divided by ``scale``."""
+        self._check_coordinate(coordinate, f"output '{name}'")
+        self._add_output(CoordinateOutput(name, coordinate, check_scale(name, scale)))
+
+    def add_relative_rotation(self, name: str, angles: tuple[str, str]) -> None:
+        """Output: rotation of angle node ``angles[1]`` relative to ``angles[0]`` (rad)."""
+        for a in angles:
+            self._check_node(a, self.angles, f"output '{name}'")
+        self._add_output(RelativeRotation(name, tuple(angles)))
+
+    def add_mode_output(self, name: str, mode: str, scale: float = 1.0) -> None:
+        """Output: a deformation mode ``"<element>.<mode>"`` divided by ``scale``."""
+        if mode.count(".") != 1 or mode.split(".")[0] not in {e.name for e in self.elements}:
+            raise InputError(f"output '{name}': '{mode}' is not a mode '<element>.<mode>' of an existing element")
+        element, index = self._mode(mode)
+        self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
+                                    check_scale(name, scale)))
+
+    def _add_output(self, output) -> None:
+        if any(o.name == output.name for o in self.outputs):
+            raise InputError(f"output '{output.name}' is defined twice; output names must be unique")
+        self.outputs.append(output)
 
     def add_independent(self, element: IndependentElement) -> None:
         """An independently modelled element (eq. 11-12), added to the linearized equations."""
@@ -375,11 +383,12 @@ class Model:
         arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, mass, weights, rotary,
                              np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
                              len(input_names), nodal_mass, nodal_force)
-        out_dofs = np.array([[index[c] for c in o.coordinates()] for o in self.outputs], dtype=np.int64).reshape(-1, 6)
-        out_len = np.array([o.reference_length for o in self.outputs])
+        outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
+                                  getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
+                                  getattr(o, "index", -1)) for o in self.outputs)
         independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
         compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                                  np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),
-                                 tuple(o.name for o in self.outputs), out_dofs, out_len, independent, tuple(labels))
+                                 outputs, independent, tuple(labels))
         check_constraints(compiled)
         return compiled

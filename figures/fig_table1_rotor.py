@@ -1,0 +1,49 @@
+"""Table I of Schwab & Meijaard (2001): the first eight eigenvalues of the rotor of
+section 4.3 at 4000 rpm, periodyn (5 elements as the paper, and refined meshes) next to
+the paper's "present" column and Sundararajan & Noah's, with relative differences.
+
+Reads (or computes once and stores) results/table1_rotor_<n>el.nc made by
+periodyn.rotor.campbell; writes the table as text beside the figures."""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import numpy as np
+
+from periodyn.config import project_root
+from periodyn.examples import rotor
+from periodyn.examples.rotor import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
+from periodyn.rotor import stored_campbell
+
+MESHES = (5, 20, 80)
+
+
+def table() -> str:
+    speed = TABLE_I_SPEED_RPM * np.pi / 30.0
+    runs = {n: stored_campbell(project_root() / "results" / f"table1_rotor_{n}el.nc", rotor(n), [speed], modes=8)
+            for n in MESHES}
+    fmt = lambda z: f"{z.real:8.2f} {z.imag:+9.2f}i"  # noqa: E731
+    head = (f"{'whirl':9s} {'paper present':>19s} {'Sundararajan&Noah':>19s} "
+            + " ".join(f"{f'periodyn {n} el':>19s}" for n in MESHES) + f" {'vs present':>10s} {'vs S&N':>8s}")
+    lines = [f"Rotor of section 4.3 at {TABLE_I_SPEED_RPM:.0f} rpm; eigenvalues in rad/s (stationary frame)", head]
+    for k, ((whirl, present), ref) in enumerate(zip(TABLE_I_PRESENT, TABLE_I_REFERENCE)):
+        ours = [complex(runs[n].eigenvalue.values[0, k]) for n in MESHES]
+        ok = "" if runs[5].whirl.values[0, k] == whirl else " (whirl differs)"
+        lines.append(f"{whirl:9s} {fmt(present)} {fmt(ref)} " + " ".join(fmt(z) for z in ours)
+                     + f" {abs(ours[0] - present) / abs(present):10.3%} {abs(ours[0] - ref) / abs(ref):8.3%}{ok}")
+    return "\n".join(lines)
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    text = table()
+    print(text)
+    path = pathlib.Path(out_dir) / "table1_rotor.txt"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text + "\n")
+    return [path]
+
+
+if __name__ == "__main__":
+    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")

@@ -1,0 +1,10 @@
+"""Rotors on a straight shaft: elements (shaft, disks, bearings, seals, masses), the
+linearized equations in the stationary and co-rotating frames, Campbell diagrams."""
+
+from .campbell import BACKWARD, FORWARD, campbell, stability_threshold, stored_campbell
+from .files import load_rotor
+from .elements import Bearing, Disk, PointMass, Seal, ShaftSection, shaft_element
+from .model import Rotor, RotorEquations, RotorModel
+
+__all__ = ["Rotor", "RotorModel", "RotorEquations", "Bearing", "Seal", "Disk", "PointMass", "ShaftSection",
+           "shaft_element", "campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD", "load_rotor"]
