@@ -29,7 +29,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     s = slider_chain_pendulum(**cfg["model"]["parameters"])
     c = cfg["continuation"]
     H = c["harmonics"]
-    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, stability="monodromy")
+    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, stability="magnus")
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 0)
     axes[0].set_ylabel("slider x1 amplitude (m)")

@@ -18,15 +18,16 @@ __version__ = "0.1.0"
 
 #: public name -> module that defines it
 _LAZY = {
-    "AliasingWarning": "hb", "PeriodicSolution": "hb", "periodic_solution": "hb",
-    "Branch": "continuation", "SpecialPoint": "continuation", "continuation": "continuation",
-    "switch_period_doubling": "continuation",
+    "AliasingWarning": "hb", "periodic_solution": "hb", "PeriodicSolution": "periodic",
+    "Branch": "continuation", "ContinuationOptions": "continuation", "SpecialPoint": "continuation",
+    "continuation": "continuation", "load_branch": "continuation", "switch_period_doubling": "continuation",
     "ConvergenceError": "errors", "InputError": "errors",
     "DAE": "dae", "ihb": "dae",
-    "FloquetExponents": "hill", "characteristic_exponents": "hill", "hill_exponents": "hill",
+    "FloquetExponents": "floquet", "characteristic_exponents": "hill", "hill_exponents": "hill",
     "PointResult": "analysis", "solve_point": "analysis",
     "shooting": "nonlinear",
     "load": "results",
+    "campbell": "rotor",
     "sweep": "sweep",
     "OmegaSplitModel": "system", "RheoLinear": "system",
     "Transient": "transient", "transient": "transient",

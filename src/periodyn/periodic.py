@@ -26,7 +26,6 @@ from .spectra import spectral_tail, synthesize, to_samples
 __all__ = ["PeriodicSolution", "half_range_and_mean", "output_spectrum"]
 
 
-
 def half_range_and_mean(coefficients: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Half peak-to-peak and mean of real periodic signals from spectra (2M+1, r).
 
