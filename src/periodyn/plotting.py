@@ -103,7 +103,7 @@ def plot_sweep(ds: xr.Dataset, title: str | None = None):
         shade_unstable(top, x, ds["stable"].values.reshape(-1))
         shade_unstable(bottom, x, ds["stable"].values.reshape(-1))
         handles.append(Patch(color="0.88"))
-        labels.append("unstable band (max Re λ ≥ 0 or failed)")
+        labels.append("unstable band (max Re λ·T > 1e-6, or failed)")
     bottom.axhline(0.0, color="k", lw=0.7)
     unit = output_unit(ds)
     top.set_ylabel("amplitude, half peak-to-peak" + (f" [{'-' if unit == '1' else unit}]" if unit else ""))
