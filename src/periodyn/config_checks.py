@@ -12,9 +12,11 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Checker", "kind", "MAX_POINTS"]
+__all__ = ["Checker", "kind", "MAX_POINTS", "FIXED_UNITS"]
 
 MAX_POINTS = 10_000_000
+#: Speed units with a fixed factor to rad/s.
+FIXED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 
 
 class Checker:
