@@ -47,10 +47,9 @@ from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
-import xarray as xr
 
 from . import examples
-from .config_checks import FIXED_UNITS, MAX_POINTS, Checker
+from .config_checks import FIXED_UNITS, MAX_POINTS, Checker, FileSpec
 from .config_elements import MODEL_FORM_KEYS, check_element_form, element_model
 from .engine.job import reference_frequencies
 from .errors import InputError
@@ -115,17 +114,10 @@ class SweepPlan:
 
 
 @dataclass(frozen=True)
-class SweepSpec:
+class SweepSpec(FileSpec):
     """A validated sweep file. omega: {start, stop, num} or {values} in ``omega_unit``;
     output_units: {output: unit} for the results (empty: the model's)."""
 
-    source: str
-    name: str
-    text: str
-    description: str
-    example: str
-    builder: Callable = field(repr=False)
-    parameters: dict[str, Any]
     omega: dict[str, Any]
     omega_unit: str
     harmonics: int

@@ -28,13 +28,13 @@ from __future__ import annotations
 import json
 import os
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import xarray as xr
 
-from .config_checks import FIXED_UNITS, Checker
+from .config_checks import FIXED_UNITS, Checker, FileSpec
 from .errors import InputError
 
 __all__ = ["StudySpec", "parse_continuation", "run_study", "load_study", "ensure_study", "plot_study"]
@@ -45,18 +45,11 @@ _METHODS = ("ihb", "shooting")
 
 
 @dataclass(frozen=True)
-class StudySpec:
+class StudySpec(FileSpec):
     """A validated continuation study. omega: (start, stop) in ``omega_unit``; parameter:
     {name, start, stop, omega} or None; period_doubling: continuation options of the 2T
     branch or None (no 2T branch); options: ContinuationOptions values from the file."""
 
-    source: str
-    name: str
-    text: str
-    description: str
-    example: str
-    builder: Callable = field(repr=False)
-    parameters: dict[str, Any]
     omega: tuple[float, float]
     omega_unit: str
     harmonics: int
@@ -205,14 +198,16 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
     branches = {"frequency": run("frequency", continuation, system, (a, b), H, spec.method, **spec.options)}
     if spec.parameter is not None:
         p = spec.parameter
-        branches["parameter"] = run("parameter", continuation, system, p["omega"] * FIXED_UNITS[spec.omega_unit], H, spec.method,
+        omega_p = p["omega"] * FIXED_UNITS[spec.omega_unit]
+        branches["parameter"] = run("parameter", continuation, system, omega_p, H, spec.method,
                                     (p["name"], p["start"], p["stop"]), **spec.options)
     if spec.period_doubling is not None:
         pds = branches["frequency"].points("period-doubling")
         if pds:
             kw = {**spec.options, **spec.period_doubling}
             kw.pop("subharmonic", None)
-            branches["period_doubled"] = run("period_doubled", switch_period_doubling, branches["frequency"], min(pds, key=lambda s: s.omega),
+            first = min(pds, key=lambda s: s.omega)
+            branches["period_doubled"] = run("period_doubled", switch_period_doubling, branches["frequency"], first,
                                              b, **kw)
         else:
             notes.append("no period-doubling point on the frequency branch: no period_doubled branch")

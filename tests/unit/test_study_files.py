@@ -127,7 +127,7 @@ def test_bad_study_files_exit_2_naming_table_and_fix(tmp_path, capsys, edit, mes
 
 def test_speed_sweep_example_in_a_study_is_refused(tmp_path, capsys):
     bad = tmp_path / "pend.toml"
-    bad.write_text('[model]\nexample = "pendulum"\n[continuation]\nomega = { start = 1.0, stop = 2.0, unit = "rad/s" }\n'
-                   "harmonics = 3\n")
+    bad.write_text('[model]\nexample = "pendulum"\n[continuation]\n'
+                   'omega = { start = 1.0, stop = 2.0, unit = "rad/s" }\nharmonics = 3\n')
     assert main(["sweep", str(bad), "--out", str(tmp_path / "p.nc")]) == 2
     assert "pendulum is not a DAE example; use [sweep]" in capsys.readouterr().err
