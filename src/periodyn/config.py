@@ -29,6 +29,10 @@ Instead of ``example``, ``[model]`` may declare an element model (see
 built with :mod:`periodyn.model` and split in powers of omega by
 :func:`periodyn.linearize.omega_split` (see ``sweeps/elliptic_pendulum_elements.toml``).
 
+A file with a ``[continuation]`` table instead of ``[sweep]`` is a continuation study of a
+DAE example (schema and runner in :mod:`periodyn.study`); :func:`parse_sweep` gives a
+:class:`SweepSpec` or a :class:`~periodyn.study.StudySpec`, ``spec.kind`` says which.
+
 ``unit`` is "rad/s", "rpm", "Hz", or a reference frequency of the model: a
 ``metadata`` entry named omega* of the model built from ``[model.parameters]``
 (e.g. "omega0" for the pendulum). Every problem raises :class:`InputError` whose message

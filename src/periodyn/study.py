@@ -15,6 +15,8 @@ a ``periodyn.DAE``)::
     period_doubling = { ds_max = 0.05, max_points = 150 }  # optional: follow the 2T branch
     time_history_omega = 3.6      # optional: read by the figure script only
 
+Every omega of the table (the parameter curve's and time_history_omega too) is in omega.unit.
+
 ``periodyn sweep FILE`` computes the frequency branch (``continuation`` from omega.start to
 omega.stop), the parameter curve and the period-doubled branch (born at the lowest-omega
 period-doubling point of the frequency branch, followed to omega.stop) and writes ONE

@@ -131,3 +131,19 @@ def test_speed_sweep_example_in_a_study_is_refused(tmp_path, capsys):
                    'omega = { start = 1.0, stop = 2.0, unit = "rad/s" }\nharmonics = 3\n')
     assert main(["sweep", str(bad), "--out", str(tmp_path / "p.nc")]) == 2
     assert "pendulum is not a DAE example; use [sweep]" in capsys.readouterr().err
+
+
+def test_ensure_gives_the_branches_of_a_study_and_reuses_them(tmp_path, monkeypatch):
+    from periodyn.config import ensure
+
+    (tmp_path / "sweeps").mkdir()
+    small = small_study(project_root() / "sweeps" / "dae_rod_pendulum.toml", tmp_path / "sweeps", 2, 4)
+    monkeypatch.chdir(tmp_path)
+    branches = ensure(small.stem)
+    out = tmp_path / "results" / f"{small.stem}.nc"
+    stamp = out.stat().st_mtime_ns
+    again = ensure(small.stem)
+    assert out.stat().st_mtime_ns == stamp and set(again) == set(branches) == {"frequency", "parameter"}
+    np.testing.assert_array_equal(again["frequency"].omega, branches["frequency"].omega)
+    small.write_text(small.read_text().replace("max_points = 4", "max_points = 5"))
+    assert len(ensure(small.stem)["frequency"]) == 5  # another version of the file: computed again
