@@ -179,6 +179,8 @@ def _cmd_study(args, spec, out: Path) -> int:
             kinds = [sp.type for sp in branch.special_points]
             special = ", ".join(f"{kinds.count(k)} {k}" for k in dict.fromkeys(kinds)) or "no special points"
             print(f"{spec.name} {key}: {len(branch)} points, {special}")
+        if spec.period_doubling is not None and "period_doubled" not in branches:
+            print("note: no period-doubling point on the frequency branch, so no period_doubled branch")
         print(f"{spec.example}: {len(branches)} branches, {elapsed:.1f} s; wrote {out}")
         if args.plot:
             print(f"figure: {args.plot}")
