@@ -16,28 +16,26 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.continuation import continuation, switch_period_doubling  # noqa: E402
-from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
-from periodyn.examples.dae_examples import inverted_pendulum  # noqa: E402
+from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
+from periodyn.dae.figures import plot_branch, time_history_figure  # noqa: E402
 from periodyn.nonlinear import integrate, shooting  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    cfg = load_sweep("inverted_pendulum")
-    s = inverted_pendulum(**cfg["model"]["parameters"])
-    c = cfg["continuation"]
-    H = c["harmonics"]
-    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1)
-    pd = min(br.points("period-doubling"), key=lambda p: p.omega)
-    b2 = switch_period_doubling(br, pd, c["omega"]["stop"], max_points=150, ds_max=0.05)
-    pc = c["parameter"]
-    brp = continuation(s, pc["omega"], harmonics=H, parameter=(pc["name"], pc["start"], pc["stop"]), ds_max=0.1)
+    spec = load_sweep_file(project_root() / "sweeps" / "dae_inverted_pendulum.toml")
+    branches = ensure("dae_inverted_pendulum")  # computed when missing
+    s = spec.build()
+    H = spec.harmonics
+    br = branches["frequency"]
+    b2 = branches["period_doubled"]
+    pc = spec.parameter
+    brp = branches["parameter"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 2, "period 1")
     plot_branch(axes[0], b2, 2, "period 2", color="tab:orange")
-    axes[0].set_xlim(c["omega"]["start"], c["omega"]["stop"])
+    axes[0].set_xlim(*spec.omega)
     axes[0].set_xlabel("omega (rad/s)")
     axes[0].set_ylabel("phi amplitude (rad)")
     axes[0].set_title(f"base amplitude p = {s.parameters['p']} m, H = {H} (2H on the 2T branch)", fontsize=9)
@@ -49,7 +47,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_inverted_pendulum_response.png")
 
-    w = c["time_history_omega"]
+    w = spec.time_history_omega
     j = int(np.argmin(np.abs(b2.omega - w)))
     sol = b2.solutions[j]
     direct = shooting(s, sol.omega, initial=sol, subharmonic=2)

@@ -15,23 +15,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.continuation import continuation  # noqa: E402
+from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
 from periodyn.dae import ihb  # noqa: E402
-from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
-from periodyn.examples.dae_examples import rod_pendulum  # noqa: E402
+from periodyn.dae.figures import plot_branch, time_history_figure  # noqa: E402
 from periodyn.nonlinear import integrate, steady_state  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    cfg = load_sweep("rod_pendulum")
-    s = rod_pendulum(**cfg["model"]["parameters"])
-    c = cfg["continuation"]
-    H = c["harmonics"]
-    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1)
-    pc = c["parameter"]
-    brp = continuation(s, pc["omega"], harmonics=H, parameter=(pc["name"], pc["start"], pc["stop"]), ds_max=0.1)
+    spec = load_sweep_file(project_root() / "sweeps" / "dae_rod_pendulum.toml")
+    branches = ensure("dae_rod_pendulum")  # computed when missing
+    s = spec.build()
+    H = spec.harmonics
+    br = branches["frequency"]
+    pc = spec.parameter
+    brp = branches["parameter"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 2)
     axes[0].set_xlabel("omega (rad/s)")
@@ -45,7 +44,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_rod_pendulum_response.png")
 
-    w = c["time_history_omega"]
+    w = spec.time_history_omega
     q, qd, _, _ = steady_state(s, w, tol=1e-8, max_periods=3000)
     T = 2 * np.pi / w
     th = integrate(s, w, (0, T), q, qd, t_eval=np.linspace(0, T, 40))

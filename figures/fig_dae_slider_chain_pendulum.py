@@ -16,20 +16,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.continuation import continuation  # noqa: E402
-from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
-from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
+from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
+from periodyn.dae.figures import plot_branch, time_history_figure  # noqa: E402
 from periodyn.nonlinear import integrate  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    cfg = load_sweep("slider_chain_pendulum")
-    s = slider_chain_pendulum(**cfg["model"]["parameters"])
-    c = cfg["continuation"]
-    H = c["harmonics"]
-    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, stability="magnus")
+    spec = load_sweep_file(project_root() / "sweeps" / "dae_slider_chain_pendulum.toml")
+    branches = ensure("dae_slider_chain_pendulum")  # computed when missing
+    s = spec.build()
+    H = spec.harmonics
+    br = branches["frequency"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 0)
     axes[0].set_ylabel("slider x1 amplitude (m)")
@@ -43,7 +42,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_slider_chain_pendulum_response.png")
 
-    w = c["time_history_omega"]
+    w = spec.time_history_omega
     sol = br.solutions[int(np.argmin(np.abs(br.omega - w)))]
     T = sol.period
     th = integrate(s, sol.omega, (0, T), sol(0.0)[0], sol.velocity(0.0)[0], t_eval=np.linspace(0, T, 40),

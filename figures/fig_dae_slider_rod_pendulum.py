@@ -15,20 +15,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.continuation import continuation  # noqa: E402
-from periodyn.dae.figures import load_sweep, plot_branch, time_history_figure  # noqa: E402
-from periodyn.examples.dae_examples import slider_rod_pendulum  # noqa: E402
+from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
+from periodyn.dae.figures import plot_branch, time_history_figure  # noqa: E402
 from periodyn.nonlinear import integrate, shooting  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    cfg = load_sweep("slider_rod_pendulum")
-    s = slider_rod_pendulum(**cfg["model"]["parameters"])
-    c = cfg["continuation"]
-    H = c["harmonics"]
-    br = continuation(s, (c["omega"]["start"], c["omega"]["stop"]), harmonics=H, ds_max=0.1, max_points=800)
+    spec = load_sweep_file(project_root() / "sweeps" / "dae_slider_rod_pendulum.toml")
+    branches = ensure("dae_slider_rod_pendulum")  # computed when missing
+    s = spec.build()
+    H = spec.harmonics
+    br = branches["frequency"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 0)
     axes[0].set_ylabel("slider x1 amplitude (m)")
@@ -41,7 +40,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_slider_rod_pendulum_response.png")
 
-    w = c["time_history_omega"]
+    w = spec.time_history_omega
     j = int(np.argmin(np.abs(br.omega - w)))
     sol = br.solutions[j]
     direct = shooting(s, sol.omega, initial=sol)

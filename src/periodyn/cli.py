@@ -26,6 +26,7 @@ _EPILOG = """examples:
   periodyn sweep sweeps/pendulum.toml --plot results/pendulum.png
   periodyn sweep sweeps/pendulum.toml --omega 0.5:0.6:2000 --workers 2 --out results/zoom.nc
   periodyn sweep sweeps/pendulum.toml --resume          # continue an interrupted sweep
+  periodyn sweep sweeps/dae_rod_pendulum.toml --plot results/rod.png   # a continuation study
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
   periodyn warmup                                       # compile the kernels once after install
@@ -68,9 +69,11 @@ def build_parser() -> argparse.ArgumentParser:
     sw = commands.add_parser("sweep", help="run a sweep file and write its results (and a figure)",
                              description="Run the sweep described by a TOML sweep file (see sweeps/*.toml and "
                                          "periodyn.config) and write one netCDF result file.")
-    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml")
+    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml, or a continuation study "
+                                            "([continuation] table), e.g. sweeps/dae_rod_pendulum.toml")
     sw.add_argument("--omega", type=_omega_range, metavar="START:STOP:NUM",
-                    help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit")
+                    help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit "
+                         "(a continuation study takes START:STOP as its range and ignores NUM)")
     sw.add_argument("--out", type=Path, metavar="FILE", help="result file (default results/<name>.nc)")
     sw.add_argument("--plot", type=Path, metavar="FILE",
                     help="also draw amplitude per output (unstable points marked) and max Re exponent")
@@ -132,6 +135,8 @@ def _cmd_sweep(args) -> int:
 
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
+    if spec.kind == "continuation":
+        return _cmd_study(args, spec, out)
     workers = args.workers
     if workers == "auto" and args.scheduler:
         workers = available_cores()
@@ -148,6 +153,35 @@ def _cmd_sweep(args) -> int:
         save_figure(plot_sweep(ds, title=f"{spec.name}: {description}" if description else spec.name), args.plot)
     if not args.quiet:
         print("\n".join(_summary(ds, out, elapsed)))
+        if args.plot:
+            print(f"figure: {args.plot}")
+    return 0
+
+
+def _cmd_study(args, spec, out: Path) -> int:
+    from .plotting import save_figure
+    from .study import plot_study, run_study
+
+    if args.scheduler or args.chunk_size:
+        raise InputError(f"{spec.source} is a continuation study, which runs in one process; drop --scheduler "
+                         "and --chunk-size")
+    if args.omega and not args.quiet:
+        print(f"note: a continuation study follows omega from {args.omega[0]:g} to {args.omega[1]:g} "
+              f"{spec.omega_unit} with its own steps; NUM ({args.omega[2]}) is ignored", file=sys.stderr)
+    start = time.perf_counter()
+    branches = run_study(spec, out, omega=args.omega, resume=args.resume, progress=None if args.quiet else sys.stderr)
+    elapsed = time.perf_counter() - start
+    if args.plot:
+        description = " ".join(spec.description.split())
+        save_figure(plot_study(branches, f"{spec.name}: {description}" if description else spec.name), args.plot)
+    if not args.quiet:
+        for key, branch in branches.items():
+            kinds = [sp.type for sp in branch.special_points]
+            special = ", ".join(f"{kinds.count(k)} {k}" for k in dict.fromkeys(kinds)) or "no special points"
+            print(f"{spec.name} {key}: {len(branch)} points, {special}")
+        if spec.period_doubling is not None and "period_doubled" not in branches:
+            print("note: no period-doubling point on the frequency branch, so no period_doubled branch")
+        print(f"{spec.example}: {len(branches)} branches, {elapsed:.1f} s; wrote {out}")
         if args.plot:
             print(f"figure: {args.plot}")
     return 0

@@ -29,6 +29,10 @@ Instead of ``example``, ``[model]`` may declare an element model (see
 built with :mod:`periodyn.model` and split in powers of omega by
 :func:`periodyn.linearize.omega_split` (see ``sweeps/elliptic_pendulum_elements.toml``).
 
+A file with a ``[continuation]`` table instead of ``[sweep]`` is a continuation study of a
+DAE example (schema and runner in :mod:`periodyn.study`); :func:`parse_sweep` gives a
+:class:`SweepSpec` or a :class:`~periodyn.study.StudySpec`, ``spec.kind`` says which.
+
 ``unit`` is "rad/s", "rpm", "Hz", or a reference frequency of the model: a
 ``metadata`` entry named omega* of the model built from ``[model.parameters]``
 (e.g. "omega0" for the pendulum). Every problem raises :class:`InputError` whose message
@@ -47,22 +51,20 @@ from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
-import xarray as xr
 
 from . import examples
-from .config_checks import MAX_POINTS, Checker
+from .config_checks import FIXED_UNITS, MAX_POINTS, Checker, FileSpec
 from .config_elements import MODEL_FORM_KEYS, check_element_form, element_model
 from .engine.job import reference_frequencies
 from .errors import InputError
 from .hill import METHODS
 from .results import load
+from .study import StudySpec, ensure_study, parse_continuation
 from .sweep import sweep_file
 
-__all__ = ["SweepSpec", "SweepPlan", "load_sweep_file", "parse_sweep", "project_root", "known_examples",
+__all__ = ["SweepSpec", "StudySpec", "SweepPlan", "load_sweep_file", "parse_sweep", "project_root", "known_examples",
            "element_model", "ensure", "FIXED_UNITS", "MAX_HARMONICS"]
 
-#: Speed units with a fixed factor to rad/s.
-FIXED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
 #: Harmonics a sweep file may ask for: the Hill matrix has (2m+1)·2n rows per speed.
 MAX_HARMONICS = 1000
 
@@ -116,17 +118,10 @@ class SweepPlan:
 
 
 @dataclass(frozen=True)
-class SweepSpec:
+class SweepSpec(FileSpec):
     """A validated sweep file. omega: {start, stop, num} or {values} in ``omega_unit``;
     output_units: {output: unit} for the results (empty: the model's)."""
 
-    source: str
-    name: str
-    text: str
-    description: str
-    example: str
-    builder: Callable = field(repr=False)
-    parameters: dict[str, Any]
     omega: dict[str, Any]
     omega_unit: str
     harmonics: int
@@ -135,6 +130,11 @@ class SweepSpec:
     method: str
     grid: dict[str, list]
     output_units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def kind(self) -> str:
+        """"sweep" (a StudySpec says "continuation")."""
+        return "sweep"
 
     def build(self, **overrides):
         """The model from [model.parameters] (and ``overrides``); builder errors become
@@ -195,16 +195,8 @@ class SweepSpec:
         return SweepPlan(model, omega, None, reference)
 
 
-def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") -> SweepSpec:
-    """Validate sweep-file text; raises InputError with the nearest fix."""
-    check = Checker(source)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source}: not valid TOML: {exc}") from None
-    check.keys(data, "top level", ("description", "model", "sweep"), ("model", "sweep"))
-    description = check.string(data.get("description", ""), "description")
-
+def _model(check: Checker, data: dict, name: str) -> tuple:
+    """(example, builder, accepted parameters, settable names, parameters) of [model]."""
     model = check.table(data["model"], "[model]")
     element_keys = [k for k in MODEL_FORM_KEYS if k in model and k != "name"]
     if "example" in model and element_keys:
@@ -233,6 +225,28 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
         check.fail("[model.parameters]", "give samples in [sweep] (samples = ...), not as a model parameter")
     check.keys(parameters, f"[model.parameters] of {example}", settable)
     parameters = {k: _parameter_check(check, accepted[k])(v, f"[model.parameters] {k}") for k, v in parameters.items()}
+    return example, builder, accepted, settable, parameters
+
+
+def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") -> SweepSpec | StudySpec:
+    """Validate sweep-file text -> SweepSpec (a [sweep] file) or StudySpec (a [continuation]
+    file; ``spec.kind`` tells which); raises InputError with the nearest fix."""
+    check = Checker(source)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source}: not valid TOML: {exc}") from None
+    check.keys(data, "top level", ("description", "model", "sweep", "continuation"), ("model",))
+    if "sweep" not in data and "continuation" not in data:
+        check.fail("top level", "missing required key 'sweep' (a speed sweep) or 'continuation' (a continuation "
+                                "study of a DAE example)")
+    if "sweep" in data and "continuation" in data:
+        check.fail("top level", "give either [sweep] (a speed sweep) or [continuation] (a study), not both")
+    description = check.string(data.get("description", ""), "description")
+    example, builder, accepted, settable, parameters = _model(check, data, name)
+    if "continuation" in data:
+        return parse_continuation(check, data["continuation"], source=source, name=name, text=text,
+                                  description=description, example=example, builder=builder, parameters=parameters)
 
     sweep = check.table(data["sweep"], "[sweep]")
     check.keys(sweep, "[sweep]", ("omega", "harmonics", "samples", "stability", "method", "grid", "output_units"),
@@ -284,7 +298,7 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
                      harmonics, samples, stability, method, grid, output_units)
 
 
-def load_sweep_file(path) -> SweepSpec:
+def load_sweep_file(path) -> SweepSpec | StudySpec:
     """Read and validate ``path`` (a .toml sweep file)."""
     path = Path(path)
     try:
@@ -298,17 +312,21 @@ def load_sweep_file(path) -> SweepSpec:
     return parse_sweep(text, str(path), path.stem)
 
 
-def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: int | str = "auto") -> xr.Dataset:
+def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: int | str = "auto"):
     """Results of the sweep file ``sweeps/<name>.toml``, from ``<results_dir>/<name>.nc``
     when that file was made from the same sweep file text, else computed and written
     (a file made from another version of the sweep file is replaced).
 
-    Relative directories are taken from the project root (the folder holding ``sweeps/``).
-    Used by the figure scripts, which only read results and draw.
+    A speed sweep gives its xarray Dataset; a continuation study gives its branches
+    ({"frequency": Branch, "parameter": ..., "period_doubled": ...}, see
+    :mod:`periodyn.study`). Relative directories are taken from the project root (the
+    folder holding ``sweeps/``). Used by the figure scripts, which only read results and draw.
     """
     root = project_root()
     spec = load_sweep_file(root / sweeps_dir / f"{name}.toml")
     out = root / results_dir / f"{name}.nc"
+    if isinstance(spec, StudySpec):
+        return ensure_study(spec, out)
     if out.is_file():
         try:
             ds = load(out)

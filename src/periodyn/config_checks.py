@@ -6,15 +6,32 @@ from __future__ import annotations
 
 import difflib
 import math
+from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Checker", "kind", "MAX_POINTS"]
+__all__ = ["Checker", "FileSpec", "kind", "MAX_POINTS", "FIXED_UNITS"]
 
 MAX_POINTS = 10_000_000
+#: Speed units with a fixed factor to rad/s.
+FIXED_UNITS = {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "Hz": 2.0 * math.pi}
+
+
+@dataclass(frozen=True)
+class FileSpec:
+    """What every validated sweep file has: where it came from (source path, name = stem,
+    text) and its [model] (example name, builder, [model.parameters])."""
+
+    source: str
+    name: str
+    text: str
+    description: str
+    example: str
+    builder: Callable = field(repr=False)
+    parameters: dict[str, Any]
 
 
 class Checker:

@@ -78,9 +78,13 @@ def test_units_values_and_grid():
 def test_shipped_sweep_files_are_valid():
     files = sorted((project_root() / "sweeps").glob("*.toml"))
     assert any(f.stem == "pendulum" for f in files)
+    assert any(f.stem.startswith("dae_") for f in files)
     for path in files:
-        if not path.stem.startswith("dae_"):
-            load_sweep_file(path).plan()
+        spec = load_sweep_file(path)
+        if spec.kind == "continuation":
+            assert spec.build().parameters  # a DAE built from [model.parameters]
+        else:
+            spec.plan()
 
 
 def edit(path: tuple, value=None, delete=False) -> dict:

@@ -123,7 +123,8 @@ def _scales(groups, X0: np.ndarray) -> np.ndarray:
 
 
 def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
-                 initial=None, tangent=None, options: ContinuationOptions | None = None, **option_values) -> Branch:
+                 initial=None, tangent=None, options: ContinuationOptions | None = None, progress=None,
+                 **option_values) -> Branch:
     """Response curve of a ``periodyn.DAE`` by pseudo-arc-length continuation -> Branch.
 
     omega: (start, stop) rad/s for a frequency response, or a fixed value when
@@ -131,7 +132,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     harmonics) or "shooting" (spectra truncated to H). initial: a PeriodicSolution at the
     start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
     options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
-    fields. Every point carries its residual and Newton iterations; non-converged points
+    fields. progress: None or a callable (points so far, parameter value (omega for a
+    frequency response) of the newest point). Every point carries its residual and Newton iterations; non-converged points
     are never recorded.
     """
     opts = replace(options or ContinuationOptions(), **_known(option_values))
@@ -171,6 +173,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
             break
         pts.append(item)
         sols.append(record(item))
+        if progress is not None:
+            progress(len(pts), item.p)
         specials += _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2)
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)

@@ -3,20 +3,11 @@ with stable/unstable parts and special points, and time histories against integr
 
 from __future__ import annotations
 
-import pathlib
-import tomllib
-
 import numpy as np
 
-__all__ = ["load_sweep", "plot_branch", "time_history_figure"]
+__all__ = ["plot_branch", "time_history_figure"]
 
 _MARK = {"fold": ("o", "k"), "period-doubling": ("s", "tab:red"), "neimark-sacker": ("^", "tab:purple")}
-
-
-def load_sweep(name: str) -> dict:
-    """Read ``sweeps/dae_<name>.toml`` of the repository."""
-    path = pathlib.Path(__file__).resolve().parents[3] / "sweeps" / f"dae_{name}.toml"
-    return tomllib.loads(path.read_text())
 
 
 def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:blue", x=None) -> None:
