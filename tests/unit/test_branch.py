@@ -34,6 +34,12 @@ def test_special_points_carry_their_solution(duffing_branch):
         np.testing.assert_allclose(sp.amplitude, sol.amplitude(), rtol=0, atol=0)
         # at the fold located from dp/ds = 0, the Floquet path (Magnus) gives a multiplier +1: measured 7e-8
         assert np.min(np.abs(sp.multipliers - 1.0)) < 1e-6
+        # test function dp/ds: opposite signs at the bracket, ~0 at the fold
+        assert sp.test_values[0] * sp.test_values[1] < 0 and abs(sp.test_values[2]) < 1e-9
+        # the critical eigenvector is the unit null vector of the IHB Jacobian there
+        J = br.problem.residual_jacobian(br.problem.from_solution(sol), sp.omega, sol.parameters)[1]
+        J = J.toarray() if hasattr(J, "toarray") else J
+        assert np.linalg.norm(J @ sp.eigenvector) < 1e-6 * np.linalg.norm(J, 2)
         # the fold is the extreme of omega between its two neighbours
         near = br.omega[sp.index: sp.index + 2]
         assert sp.omega >= near.max() - 1e-12 or sp.omega <= near.min() + 1e-12
@@ -55,6 +61,10 @@ def _same(a: Branch, b: Branch):
         np.testing.assert_array_equal(p.solution.harmonics, q.solution.harmonics)
         np.testing.assert_allclose(p.multipliers, q.multipliers, rtol=1e-13)
         assert p.multiplier == q.multiplier or (np.isnan(p.multiplier) and np.isnan(q.multiplier))
+        np.testing.assert_array_equal(p.test_values, q.test_values)
+        assert (p.eigenvector is None) == (q.eigenvector is None)
+        if p.eigenvector is not None:
+            np.testing.assert_array_equal(p.eigenvector, q.eigenvector)
 
 
 def test_branch_round_trips_through_netcdf(duffing_branch, tmp_path):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from periodyn.continuation.events import classify, illinois
+from periodyn.continuation.events import branch_test, classify, illinois
 from periodyn.errors import ConvergenceError
 from periodyn.nonlinear.newton import least_squares_factor, newton
 
@@ -41,7 +41,18 @@ def test_classifier_types():
     ns = classify(1.0, 1.0, np.array([0.9j, -0.9j]), np.array([1.1j, -1.1j]))
     assert [e[0] for e in ns] == ["neimark-sacker"]
     assert classify(1.0, 1.0, inside, inside) == []
-    assert classify(1.0, 1.0, np.array([0.9, 0.2]), np.array([1.1, 0.2])) == []  # +1: a fold, found from dp/ds
+    # a real multiplier through +1: a fold when dp/ds changes sign, else a branch point
+    assert [e[0] for e in classify(0.3, -0.2, np.array([0.9, 0.2]), np.array([1.1, 0.2]))] == ["fold"]
+    bp = classify(1.0, 1.0, np.array([0.9, 0.2]), np.array([1.1, 0.2]))
+    assert [e[0] for e in bp] == ["branch-point"] and abs(bp[0][2] - 0.5) < 1e-12
+
+
+def test_branch_test_function_changes_sign_only_at_plus_one():
+    # det(M - I) sign times the distance of the nearest multiplier from +1
+    assert branch_test(np.array([1.2, 0.1])) == pytest.approx(-0.2)
+    assert branch_test(np.array([0.8, 0.1])) == pytest.approx(0.2)
+    assert branch_test(np.array([0.5 + 0.5j, 0.5 - 0.5j])) == pytest.approx(abs(0.5 + 0.5j - 1))
+    assert branch_test(np.array([-1.2, 0.1])) > 0  # a period doubling does not change its sign
 
 
 def test_illinois_finds_the_root_of_a_bracketed_indicator():

@@ -1,13 +1,15 @@
 """Pseudo-arc-length continuation of periodic solutions and its results.
 
-``palc`` (predictor-corrector, step control), ``events`` (one classifier of folds, period
-doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
+``palc`` (predictor-corrector, step control), ``events`` (one classifier of folds, branch
+points, period doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
 ``Branch`` and its netCDF file), ``driver`` (``continuation`` for IHB and shooting with
-``ContinuationOptions``), ``switching`` (onto the period-doubled branch).
+``ContinuationOptions``), ``switching`` (onto the period-doubled branch, or the crossing branch at a branch
+point).
 """
 
 from .branch import Branch, SpecialPoint, load_branch
 from .driver import ContinuationOptions, continuation
-from .switching import switch_period_doubling
+from .switching import switch_branch, switch_period_doubling
 
-__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "continuation", "load_branch", "switch_period_doubling"]
+__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "continuation", "load_branch", "switch_branch",
+           "switch_period_doubling"]

@@ -17,8 +17,9 @@ variable               dims                             meaning
 ``lambda_harmonics``   (point, harmonic, constraint)    complex constraint-force harmonics
 ``multipliers``        (point, multiplier)              complex Floquet multipliers (nan if none)
 ``special_*``          (special, ...)                   type, index, omega, parameter, critical
-                                                        multiplier, amplitude, multipliers and
-                                                        the orbit's harmonics at each special point
+                                                        multiplier, amplitude, multipliers, test
+                                                        values, critical eigenvector (unknown)
+                                                        and the orbit's harmonics there
 =====================  ===============================  =======================================
 
 Attributes: parameter_name ('' for omega), status, method, subharmonic, options (JSON).
@@ -44,10 +45,15 @@ __all__ = ["SpecialPoint", "Branch", "load_branch"]
 class SpecialPoint:
     """A bifurcation between branch points ``index`` and ``index + 1``.
 
-    type: "fold", "period-doubling" or "neimark-sacker"; omega (rad/s) and parameter at the
-    refined location (linear interpolation when refinement failed); multiplier: the
-    critical multiplier (nan for folds); amplitude (n,) half peak-to-peak there; solution:
-    the orbit there (None when refinement failed); multipliers: its Floquet multipliers.
+    type: "fold", "branch-point", "period-doubling" or "neimark-sacker"; omega (rad/s) and
+    parameter at the refined location (linear interpolation when refinement failed);
+    multiplier: the critical multiplier (nan for folds); amplitude (n,) half peak-to-peak
+    there; solution: the orbit there (None when refinement failed); multipliers: its
+    Floquet multipliers; eigenvector (N,): the critical direction of a fold or branch point,
+    the unit null vector of the discretization's Jacobian in its unknowns (None otherwise
+    or when refinement failed); test_values (3,): the test function at the bracketing
+    branch points and at the located point (dp/ds for folds, sign(det(M - I)) min|mu - 1|
+    for branch points, max|mu| - 1 otherwise; None when refinement failed).
     """
 
     type: str
@@ -57,6 +63,8 @@ class SpecialPoint:
     multiplier: complex = complex("nan")
     amplitude: np.ndarray | None = None
     solution: PeriodicSolution | None = None
+    eigenvector: np.ndarray | None = None
+    test_values: np.ndarray | None = None
 
     @property
     def multipliers(self) -> np.ndarray | None:
@@ -133,6 +141,9 @@ class Branch:
              "special_amplitude": (("special", "coordinate"), _rows([p.amplitude for p in sps], s0.harmonics.shape[1])),
              "special_multipliers": (("special", "multiplier"), _multipliers([p.solution for p in sps],
                                                                              len(_multipliers(sols)[0]))),
+             "special_test_values": (("special", "test"), _rows([p.test_values for p in sps], 3)),
+             "special_eigenvector": (("special", "unknown"),
+                                     _rows([p.eigenvector for p in sps], _width([p.eigenvector for p in sps]))),
              "special_harmonics": (("special", "harmonic", "coordinate"),
                                    _stack([p.solution and p.solution.harmonics for p in sps], s0.harmonics.shape)),
              "special_lambda_harmonics": (("special", "harmonic", "constraint"),
@@ -172,7 +183,8 @@ class Branch:
                                                              v["special_parameter"][j])
             specials.append(SpecialPoint(str(v["special_type"][j]), int(v["special_index"][j]),
                                          float(v["special_omega"][j]), float(v["special_parameter"][j]),
-                                         complex(v["special_multiplier"][j]), v["special_amplitude"][j], sol))
+                                         complex(v["special_multiplier"][j]), v["special_amplitude"][j], sol,
+                                         _row(v, "special_eigenvector", j), _row(v, "special_test_values", j)))
         branch = cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
                                     options=json.loads(ds.attrs["options"]), amplitude=v["amplitude"])
         return replace(branch, max_multiplier=v["max_multiplier"])  # as stored, not exp(log(mu))
@@ -205,6 +217,17 @@ def _multipliers(sols, width: int | None = None) -> np.ndarray:
         if m is not None:
             out[i, :len(m)] = m
     return out
+
+
+def _width(rows) -> int:
+    return max((len(r) for r in rows if r is not None), default=0)
+
+
+def _row(v: dict, name: str, j: int) -> np.ndarray | None:
+    """Row j of a stored special-point variable; None when absent (older files) or all nan."""
+    if name not in v or v[name].shape[1] == 0 or np.all(np.isnan(v[name][j])):
+        return None
+    return v[name][j]
 
 
 def _rows(rows, n) -> np.ndarray:

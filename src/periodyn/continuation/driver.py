@@ -16,13 +16,15 @@ from ..dae.ihb import IHBProblem, ihb
 from ..dae.linearization import STABILITY_METHODS
 from ..dae.model import DAE
 from ..errors import ConvergenceError, InputError
-from ..nonlinear.newton import newton
+from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
-from .events import classify, illinois
+from .events import branch_test, classify, illinois
 from .palc import Arc, first_point, trace
 
 __all__ = ["ContinuationOptions", "continuation"]
+
+_AT_START = 1e-8  # |test function| at the start point below which the start is the special point
 
 
 @dataclass(frozen=True)
@@ -195,25 +197,51 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
     """Classified and refined special points between accepted points a and b (index k)."""
     out = []
     for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
-        found = _refine_fold(arc, a, b) if typ == "fold" else _refine_crossing(arc, disc, at, a, b)
+        if typ == "fold":
+            found = _refine_fold(arc, a, b)
+        else:
+            test = branch_test if typ == "branch-point" else _escape
+            bracket = (test(sol_a.multipliers), test(sol_b.multipliers))
+            if k == 0 and abs(bracket[0]) < _AT_START:
+                continue  # the start is this special point itself (a branch switched from it)
+            found = _refine_crossing(arc, disc, at, a, b, test, bracket)
         if found is None:  # refinement failed: linear interpolation, no orbit
             p = a.p + s_lin * (b.p - a.p)
             amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
             out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None))
             continue
-        X, p, rn = found
+        X, p, rn, tests = found
         exps = disc.exponents(X, *at(p))
         sol = disc.solution(X, *at(p), rn, 0, exps)
         if typ != "fold":
             mu = sol.multipliers
-            crit = complex(mu[int(np.argmax(np.abs(mu)))])
-        out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol))
+            j = np.argmin(np.abs(mu - 1)) if typ == "branch-point" else np.argmax(np.abs(mu))
+            crit = complex(mu[int(j)])
+        vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
+        out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
+                                np.asarray(tests, float)))
     return out
+
+
+def _escape(mu) -> float:
+    """Test function of period doubling and Neimark-Sacker points: max|mu| - 1."""
+    return float(np.max(np.abs(mu)) - 1.0)
+
+
+def _null_vector(J, sweeps: int = 4) -> np.ndarray:
+    """Unit null vector of the (nearly) singular Jacobian J at a fold or branch point, by
+    inverse iteration with one factorization of J (the critical direction in the unknowns)."""
+    solve = lu_factor(J)
+    v = np.ones(J.shape[0]) / np.sqrt(J.shape[0])
+    for _ in range(sweeps):
+        v = solve(v)
+        v /= np.linalg.norm(v)
+    return v * np.sign(v[int(np.argmax(np.abs(v)))])
 
 
 def _refine_fold(arc, a, b):
     """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
-    by the corrector); returns (X, p, residual) or None."""
+    by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
     L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
 
     def g(s, *_):
@@ -227,16 +255,16 @@ def _refine_fold(arc, a, b):
     if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
         return None
     res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=1e-10, stol=1e-12)
-    return None if res is None else (res[1].X, res[1].p, res[1].residual)
+    if res is None:
+        return None
+    pt = res[1]
+    return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
 
 
-def _refine_crossing(arc, disc, at, a, b):
-    """Parameter where the largest |mu| crosses 1 between a and b (fixed-parameter Newton
-    from the interpolated bracket solutions); returns (X, p, residual) or None."""
-    def indicator(X, p):
-        mu = disc.exponents(X, *at(p)).multipliers
-        return float(np.max(np.abs(mu)) - 1.0)
-
+def _refine_crossing(arc, disc, at, a, b, test, bracket):
+    """Parameter where the test function of the multipliers vanishes between a and b
+    (bracket: its values there; fixed-parameter Newton from the interpolated bracket
+    solutions); returns (X, p, residual, (test at a, b, there)) or None."""
     def g(s, lo, hi):
         (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
         f = (s - sa) / (sb - sa) if sb != sa else 0.5
@@ -246,12 +274,13 @@ def _refine_crossing(arc, disc, at, a, b):
                          label="special point", hint="")
         except ConvergenceError:
             return None
-        return indicator(res.x, p), (res.x, res.residual)
+        return test(disc.exponents(res.x, *at(p)).multipliers), (res.x, res.residual)
 
     stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
-    res = illinois(g, (0.0, indicator(a.X, a.p), (a.X, a.residual)), (1.0, indicator(b.X, b.p), (b.X, b.residual)),
+    res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
                    ftol=1e-9, stol=stol, max_iter=30)
     if res is None:
         return None
     s, (X, rn) = res
-    return X, a.p + s * (b.p - a.p), rn
+    p = a.p + s * (b.p - a.p)
+    return X, p, rn, (bracket[0], bracket[1], test(disc.exponents(X, *at(p)).multipliers))

@@ -2,11 +2,13 @@
 
 Classification (:func:`classify`): a fold where the parameter component of the tangent,
 dp/ds, changes sign; a period doubling where a real multiplier leaves (or enters) the
-unit circle through -1; a Neimark-Sacker bifurcation where a complex pair does (a real
-multiplier through +1 is a fold, reported from dp/ds). Refinement (:func:`illinois`):
-the Illinois (modified regula falsi) method on a scalar indicator g(s) over a bracket
-s in [0, 1]; folds use g = dp/ds along the arc (each trial point solved by the
-corrector), multiplier crossings g = max|mu| - 1 with fixed-parameter Newton solves.
+unit circle through -1; a Neimark-Sacker bifurcation where a complex pair does; a branch
+point (symmetry-breaking pitchfork or transcritical) where a real multiplier crosses +1
+while dp/ds keeps its sign (with a sign change of dp/ds the +1 crossing is the fold).
+Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
+indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
+point solved by the corrector), multiplier crossings fixed-parameter Newton solves with
+g = max|mu| - 1 (period doubling, Neimark-Sacker) or :func:`branch_test` (branch point).
 """
 
 from __future__ import annotations
@@ -15,7 +17,18 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["classify", "illinois"]
+__all__ = ["branch_test", "classify", "illinois"]
+
+
+def branch_test(mu) -> float:
+    """Branch-point test function of multipliers mu: sign(Re prod(mu_i - 1)) min|mu_i - 1|.
+
+    prod(mu_i - 1) = det(M - I) changes sign exactly when a real multiplier crosses +1
+    (a complex pair contributes |mu - 1|^2 > 0); the factor min|mu_i - 1| makes the value
+    the distance of the critical multiplier from +1, independent of the other multipliers.
+    """
+    d = np.asarray(mu) - 1.0
+    return float(np.sign(np.prod(d / np.maximum(np.abs(d), 1e-300)).real) * np.min(np.abs(d)))
 
 
 def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, float]]:
@@ -39,9 +52,14 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
             typ = "neimark-sacker"
         elif c.real < 0:
             typ = "period-doubling"
+        elif out and out[0][0] == "fold":
+            continue  # the +1 crossing of the fold, reported from dp/ds
         else:
-            continue
-        fa, fb = (abs(c2) - 1, abs(c) - 1) if grow else (abs(c) - 1, abs(c2) - 1)
+            typ = "branch-point"
+        if typ == "branch-point":
+            fa, fb = branch_test(mu_a), branch_test(mu_b)
+        else:
+            fa, fb = (abs(c2) - 1, abs(c) - 1) if grow else (abs(c) - 1, abs(c2) - 1)
         out.append((typ, complex(c), fa / (fa - fb) if fa != fb else 0.5))
         if typ == "neimark-sacker":
             break  # one entry per complex pair

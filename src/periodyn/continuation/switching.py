@@ -1,4 +1,5 @@
-"""Branch switching at a period-doubling point onto the period-2T branch."""
+"""Branch switching: at a period-doubling point onto the period-2T branch, at a branch point
+(symmetry-breaking pitchfork, transcritical) onto the crossing branch."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from ..timedomain import integrate, monodromy_matrix
 from .branch import Branch, SpecialPoint
 from .driver import continuation
 
-__all__ = ["switch_period_doubling"]
+__all__ = ["switch_branch", "switch_period_doubling"]
 
 
 def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *, amplitude: float = 1e-2,
@@ -72,3 +73,35 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
     opts.update(kwargs)
     return continuation(system, omega_arg, H2, "ihb", param_arg, initial=start, subharmonic=2 * prob.nu,
                         samples=prob2.p, tangent=tangent, **opts)
+
+
+def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, **kwargs) -> Branch:
+    """Follow the branch crossing an IHB ``branch`` at a branch ``point`` toward parameter
+    ``p_stop``.
+
+    At the branch point the Jacobian of the harmonic balance equations has a null vector
+    phi (``point.eigenvector``: the Floquet mode of multiplier +1 in the harmonics) that is
+    not the known branch's tangent; the first predictor is (phi, dp = 0), the tangent of
+    the new branch of a pitchfork (the new branch is p - p* ~ s^2; for a transcritical
+    point the corrector bends the step onto it). The new branch is then traced by the
+    usual pseudo-arc-length steps from the orbit at the point; kwargs go to
+    :func:`continuation` (e.g. ds sets the first step, and with it which side of the
+    pitchfork's mirror pair is taken via its sign: ds > 0 along +phi).
+    """
+    if point.type != "branch-point":
+        raise InputError(f"point is a {point.type!r}, not a branch point")
+    prob = branch.problem
+    if not isinstance(prob, IHBProblem):
+        raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
+    if point.solution is None or point.eigenvector is None:
+        raise InputError("the branch point was not refined (no orbit or critical eigenvector): continue with a "
+                         "smaller ds_max so its refinement converges")
+    name = branch.parameter_name
+    sol = point.solution
+    tangent = np.concatenate([point.eigenvector, [0.0]])
+    omega_arg = (point.parameter, p_stop) if name is None else point.omega
+    param_arg = None if name is None else (name, point.parameter, p_stop)
+    opts = {k: branch.options[k] for k in ("stability", "tol", "ds_max", "ds_min", "max_iter") if k in branch.options}
+    opts.update(kwargs)
+    return continuation(branch.options["system"], omega_arg, prob.H, "ihb", param_arg, initial=sol,
+                        subharmonic=prob.nu, samples=prob.p, tangent=tangent, **opts)
