@@ -20,7 +20,8 @@ __version__ = "0.1.0"
 _LAZY = {
     "AliasingWarning": "hb", "periodic_solution": "hb", "PeriodicSolution": "periodic",
     "Branch": "continuation", "ContinuationOptions": "continuation", "SpecialPoint": "continuation",
-    "continuation": "continuation", "load_branch": "continuation", "switch_period_doubling": "continuation",
+    "continuation": "continuation", "load_branch": "continuation", "switch_branch": "continuation",
+    "switch_period_doubling": "continuation",
     "ConvergenceError": "errors", "InputError": "errors",
     "DAE": "dae", "ihb": "dae",
     "FloquetExponents": "floquet", "characteristic_exponents": "hill", "hill_exponents": "hill",
