@@ -143,25 +143,23 @@ def motion_twin(model, x, qdot, qddot):
             if row >= 0:
                 J[row, idx] += t[1][k]
 
-    def phi2(u, w):
+    def contract(order, *vectors):
+        """Order-th derivative tensors of the deformations contracted with vectors, (n,)."""
         out = np.zeros(n)
         for e, t in enumerate(tensors):
             idx = arr.dofs[e]
             for k in range(3):
                 row = arr.mode_row[arr.modes[e, k]]
                 if row >= 0:
-                    out[row] = u[idx] @ t[2][k] @ w[idx]
+                    out[row] = np.einsum(t[order][k], list(range(order)), *[a for i, v in enumerate(vectors)
+                                                                        for a in (v[idx], [i])])
         return out
 
+    def phi2(u, w):
+        return contract(2, u, w)
+
     def phi3(u, w, z):
-        out = np.zeros(n)
-        for e, t in enumerate(tensors):
-            idx = arr.dofs[e]
-            for k in range(3):
-                row = arr.mode_row[arr.modes[e, k]]
-                if row >= 0:
-                    out[row] = np.einsum("abc,a,b,c->", t[3][k], u[idx], w[idx], z[idx])
-        return out
+        return contract(3, u, w, z)
 
     Fq = np.linalg.solve(J, arr.rhs_q)
     nr = arr.n_input
