@@ -1,0 +1,211 @@
+"""Element models (``periodyn.model.CompiledModel``) as non-linear problems: the full
+reduced equations (4) of Schwab & Meijaard (2001) as a ``periodyn.DAE`` that shooting,
+IHB, continuation and the integrators accept.
+
+The inputs are rheonomic, ``q^r = rates * omega t``, and are substituted, so the problem
+is an ODE in the dynamic coordinates q^d alone (n = n_d, m = 0), periodic in t whenever
+the rigid motion is, with unit mass and the force the dynamic accelerations
+
+    q̈^d = g(q^d, q̇^d, t) = -M̄⁻¹ F_dᵀ (M F_qq q̇ q̇ - f)      (eq. 4 solved for q̈^d)
+
+and its Jacobians ``-M̄⁻¹ K̄``, ``-M̄⁻¹ C̄`` at the actual accelerations (implicit
+differentiation of eq. 4, :mod:`periodyn.kernels.nonlinear`). Keeping q^d as the only
+coordinates (rather than adding q^r with a rheonomic constraint) keeps every coordinate
+periodic, so harmonic balance, spectra and the periodic-solution type apply unchanged,
+and needs no constraint stabilization in time integration.
+
+Configurations x = F(q) are found by Newton from warm starts: the configurations solved
+at the previous call for the same batch size (integrators and shooting move in small
+steps), approached in steps of at most ``MAX_STEP`` in q when the new state is far.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ConvergenceError, InputError
+from ..kernels import assembly
+from ..kernels import nonlinear as kernel
+from ..kernels.outputs import midpoint_deflection
+from ..kinematics import MAX_HALVINGS, NEWTON_MAX_ITER, _tolerance
+from .linear import ode
+
+__all__ = ["element_dae", "element_outputs", "reduced_equations"]
+
+MAX_STEP = 0.25  # rad or m: largest change of q per tracked step between warm start and target
+
+
+class _Configurations:
+    """Solved configurations X (b, n_x) at inputs Qx (b, n_q) with their F_q (b, n_x, n_q),
+    one set per batch size."""
+
+    def __init__(self, model):
+        self.model = model
+        self.tol = _tolerance(model)
+        self.sets: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def start(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Warm starts (X, Qx, FQ) for Q (b, n_q): configurations within MAX_STEP of Q."""
+        b = Q.shape[0]
+        if b in self.sets:
+            X, Qx, FQ = (a.copy() for a in self.sets[b])
+        elif self.sets:  # another batch size: start every row from the latest first row
+            X, Qx, FQ = (np.repeat(a[:1], b, axis=0) for a in self.sets[next(reversed(self.sets))])
+        else:
+            X = np.repeat(self.model.x_reference[None], b, axis=0)
+            Qx = np.zeros_like(Q)
+            FQ = np.repeat(assembly.input_jacobian(self.model.arrays, self.model.x_reference)[None], b, axis=0)
+        for k in np.nonzero(np.abs(Q - Qx).max(axis=1) > MAX_STEP)[0]:
+            steps = int(np.ceil(np.abs(Q[k] - Qx[k]).max() / MAX_STEP))
+            path = Qx[k] + np.outer(np.arange(1, steps) / steps, Q[k] - Qx[k])
+            if len(path):
+                out, info = np.empty((len(path), X.shape[1])), np.zeros((len(path), 2))
+                failed = assembly.track(self.model.arrays, X[k].copy(), Qx[k].copy(), path, self.tol,
+                                        NEWTON_MAX_ITER, MAX_HALVINGS, out, info)
+                _check(self.model, info[failed:failed + 1] if failed >= 0 else info[:0], path[failed:failed + 1])
+                X[k], Qx[k] = out[-1], path[-1]
+                FQ[k] = assembly.input_jacobian(self.model.arrays, X[k])
+        return X, Qx, FQ
+
+    def keep(self, X: np.ndarray, Qx: np.ndarray, FQ: np.ndarray) -> None:
+        self.sets.pop(X.shape[0], None)
+        self.sets[X.shape[0]] = (X, Qx, FQ)
+
+
+def _check(model, info: np.ndarray, Q: np.ndarray) -> None:
+    bad = np.nonzero(info[:, 0] < 0)[0]
+    if bad.size:
+        k = bad[0]
+        kind = "singular constraint Jacobian" if info[k, 0] == -1 else "no convergence"
+        raise ConvergenceError(f"model '{model.name}': configuration Newton failed at q = {Q[k].tolist()} ({kind}, "
+                               f"residual {info[k, 1]:.3g}); the deformation is too large for the mechanism, "
+                               "or the integration step jumped: lower the integrator tolerances",
+                               float(info[k, 1]), int(NEWTON_MAX_ITER))
+
+
+class ElementEquations:
+    """Batch evaluator of the accelerations of an element model (module docstring);
+    remembers the last evaluation so force and Jacobians at one state cost one pass."""
+
+    def __init__(self, model):
+        if model.independent:
+            raise InputError(f"model '{model.name}' has independently modelled elements (eq. 11-12); they exist "
+                             "only in the linearized equations, so the non-linear model cannot include them")
+        if model.n_dynamic == 0:
+            raise InputError(f"model '{model.name}' has no dynamic coordinates: nothing to integrate")
+        self.model = model
+        self.configurations = _Configurations(model)
+        self._last = None
+        self._none = np.empty((1, 1, 1))
+
+    def inputs(self, q, qd, t, omega) -> tuple[np.ndarray, np.ndarray]:
+        """Full q and q̇ (b, n_q) of dynamic states q, qd (b, n_d) at times t (b,)."""
+        m = self.model
+        b, nr = q.shape[0], m.n_inputs
+        Q = np.empty((b, nr + q.shape[1]))
+        Qd = np.empty_like(Q)
+        Q[:, :nr] = (omega * np.asarray(t, float)).reshape(-1, 1) * m.input_rates
+        Q[:, nr:] = q
+        Qd[:, :nr] = omega * m.input_rates
+        Qd[:, nr:] = qd
+        return Q, Qd
+
+    def __call__(self, q, qd, t, omega, jacobians: bool):
+        """(acc (b, n_d), Gq, Gv (b, n_d, n_d) or None) at states q, qd (b, n_d), times t."""
+        q = np.ascontiguousarray(q, dtype=float)
+        qd = np.ascontiguousarray(qd, dtype=float)
+        last = self._last
+        if (last is not None and jacobians <= last[0] and last[1] == float(omega) and np.array_equal(last[2], q)
+                and np.array_equal(last[3], qd) and np.array_equal(last[4], t)):
+            return last[5:]
+        Q, Qd = self.inputs(q, qd, t, omega)
+        X, Qx, FQ = self.configurations.start(Q)
+        b, nd = q.shape
+        acc = np.empty((b, nd))
+        Gq, Gv = (np.empty((b, nd, nd)), np.empty((b, nd, nd))) if jacobians else (self._none, self._none)
+        info = np.zeros((b, 2))
+        kernel.accelerations(self.model.arrays, Q, Qd, X, Qx, FQ, self.configurations.tol, NEWTON_MAX_ITER, MAX_HALVINGS,
+                             jacobians, acc, Gq, Gv, info)
+        if info[:, 0].min() < 0:
+            _check(self.model, info, Q)
+        self.configurations.keep(X, Qx, FQ)
+        self._last = (jacobians, float(omega), q.copy(), qd.copy(), np.array(t, float), acc,
+                      Gq if jacobians else None, Gv if jacobians else None)
+        return self._last[5:]
+
+
+def element_dae(model, *, name: str | None = None):
+    """``periodyn.DAE`` (an ODE in q^d, n = n_d, m = 0) of the full non-linear equations
+    of the element model ``model`` (module docstring); coordinates named as
+    ``model.dynamic_names``. Refuses models with independent elements or without
+    dynamic coordinates (InputError)."""
+    eq = ElementEquations(model)
+
+    def force(q, qd, t, omega, P):
+        return eq(q, qd, t, omega, False)[0].copy()
+
+    def force_jacobians(q, qd, t, omega, P):
+        _, Gq, Gv = eq(q, qd, t, omega, True)
+        return Gq.copy(), Gv.copy()
+
+    system = ode(model.n_dynamic, force, force_jacobians, model.dynamic_names, name or f"{model.name}_nonlinear")
+    system.equations = eq
+    return system
+
+
+def reduced_equations(model, omega: float, t, q, qd, qdd):
+    """The reduced equations (4) in residual form at states q, qd, qdd (k, n_d) (rad, m,
+    per s, per s^2) at times t (k,) (s), input speed omega (rad/s): residual
+    R = F_dᵀ (M x'' - f) (k, n_d) and its derivatives M̄ = dR/dq̈, C̄ = dR/dq̇, K̄ = dR/dq
+    (k, n_d, n_d). At q = qd = qdd = 0 these are the linearized matrices of eq. (5, 7, 9, 10)."""
+    q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
+    t = np.asarray(t, dtype=float).reshape(-1)
+    eq = ElementEquations(model)
+    k, nd = q.shape
+    R, Mb, Cb, Kb = np.empty((k, nd)), np.empty((k, nd, nd)), np.empty((k, nd, nd)), np.empty((k, nd, nd))
+    for j in range(k):
+        eq(q[j:j + 1], qd[j:j + 1], t[j:j + 1], omega, False)
+        Q, Qd = eq.inputs(q[j:j + 1], qd[j:j + 1], t[j:j + 1], omega)
+        qddot = np.concatenate([np.zeros(model.n_inputs), qdd[j]])
+        kernel._state(model.arrays, eq.configurations.sets[1][0][0], Qd[0], qddot, Mb[j], Cb[j], Kb[j], R[j])
+    return R, Mb, Cb, Kb
+
+
+def _values(model, X: np.ndarray) -> np.ndarray:
+    """Output functionals y(x) (k, n_out) at configurations X (k, n_x)."""
+    y = np.empty((X.shape[0], len(model.outputs)))
+    grad = np.empty(6)
+    tensors = assembly.allocate_tensors(model.arrays)
+    for j, x in enumerate(X):
+        if any(o.kind == "mode" for o in model.outputs):
+            assembly.element_tensors(model.arrays, x, *tensors)
+        for i, o in enumerate(model.outputs):
+            xs = x[o.dofs]
+            if o.kind == "midpoint_deflection":
+                y[j, i] = midpoint_deflection(np.ascontiguousarray(xs), o.scale, grad)
+            elif o.kind == "coordinate":
+                y[j, i] = xs[0] / o.scale
+            elif o.kind == "relative_rotation":
+                y[j, i] = xs[1] - xs[0]
+            else:
+                y[j, i] = tensors[0][o.element, o.mode] / o.scale
+    return y
+
+
+def element_outputs(model, omega: float, t, q) -> np.ndarray:
+    """Non-linear outputs of ``model`` along a motion: q^d (k, n_d) at times t (k,) (s),
+    input speed omega (rad/s) -> (k, n_out), each output minus its value on the rigid
+    motion (q^d = 0) at the same time, comparable with the linearized outputs."""
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    t = np.asarray(t, dtype=float).reshape(-1)
+    if q.shape != (t.size, model.n_dynamic):
+        raise InputError(f"q must have shape ({t.size}, {model.n_dynamic}) for {t.size} times, got {q.shape}")
+    eq = ElementEquations(model)
+    rows = []
+    for qs in (q, np.zeros_like(q)):
+        X = np.empty((t.size, model.n_coordinates))
+        for k in range(t.size):  # one state at a time: each starts from the previous one
+            eq(qs[k:k + 1], np.zeros((1, model.n_dynamic)), t[k:k + 1], omega, False)
+            X[k] = eq.configurations.sets[1][0][0]
+        rows.append(_values(model, X))
+    return rows[0] - rows[1]
