@@ -11,6 +11,7 @@ a ``periodyn.DAE``)::
     subharmonic = 1               # optional: orbit period 2 pi nu / omega
     ds_max = 0.1                  # optional: largest arc-length step
     max_points = 800              # optional: points per branch at most
+    tol = 1e-5                    # optional: residual max-norm of a point (SI units of the equations)
     parameter = { name = "f", start = 0.01, stop = 0.3, omega = 3.6 }   # optional curve at fixed omega
     period_doubling = { ds_max = 0.05, max_points = 150 }  # optional: follow the 2T branch
     time_history_omega = 3.6      # optional: read by the figure script only
@@ -41,7 +42,7 @@ from .errors import InputError
 
 __all__ = ["StudySpec", "parse_continuation", "run_study", "load_study", "ensure_study", "plot_study"]
 
-_KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "parameter",
+_KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "tol", "parameter",
          "period_doubling", "time_history_omega")
 _METHODS = ("ihb", "shooting")
 
@@ -149,7 +150,7 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
 
 
 def _options(check: Checker, table: dict, where: str, strict: bool = False) -> dict:
-    """ds_max and max_points of a table (``strict``: no other keys)."""
+    """ds_max, max_points and tol of a table (``strict``: no other keys than the first two)."""
     if strict:
         check.keys(table, where, ("ds_max", "max_points"))
     out = {}
@@ -157,6 +158,8 @@ def _options(check: Checker, table: dict, where: str, strict: bool = False) -> d
         out["ds_max"] = check.number(table["ds_max"], f"{where} ds_max", positive=True)
     if "max_points" in table:
         out["max_points"] = check.integer(table["max_points"], f"{where} max_points", 2)
+    if "tol" in table:
+        out["tol"] = check.number(table["tol"], f"{where} tol", positive=True)
     return out
 
 

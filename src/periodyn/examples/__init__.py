@@ -5,7 +5,7 @@ from .dae_examples import duffing, inverted_pendulum, rod_pendulum, slider_chain
 from .elliptic_pendulum import pendulum_from_elements
 from .pendulum import pendulum, pendulum_nonlinear
 from .rotor import rotor
-from .slider_crank import slider_crank
+from .slider_crank import slider_crank, slider_crank_nonlinear
 
 __all__ = ["duffing", "inverted_pendulum", "parametric_chain", "pendulum", "pendulum_from_elements", "pendulum_nonlinear",
-           "rod_pendulum", "rotor", "slider_chain_pendulum", "slider_crank", "slider_rod_pendulum"]
+           "rod_pendulum", "rotor", "slider_chain_pendulum", "slider_crank", "slider_crank_nonlinear", "slider_rod_pendulum"]

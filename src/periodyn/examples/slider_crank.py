@@ -16,7 +16,7 @@ from ..errors import InputError
 from ..linearize import linearize, omega_split
 from ..model import Model
 
-__all__ = ["slider_crank", "slider_crank_model", "first_bending_frequency"]
+__all__ = ["slider_crank", "slider_crank_model", "slider_crank_nonlinear", "first_bending_frequency"]
 
 CRANK_LENGTH = 0.15      # m
 ROD_LENGTH = 0.3         # m
@@ -64,15 +64,31 @@ def first_bending_frequency(model) -> float:
     return float(np.sqrt(w2[0]))
 
 
-def slider_crank(damping: float = 0.02, samples: int = 64):
-    """OmegaSplitModel of the slider-crank; damping = fraction of critical in the rod's
-    first mode with the crank fixed (0.01 and 0.02 in the paper); samples = crank
-    angles per revolution. metadata["omega1"]: the first bending frequency (rad/s)."""
+def _kelvin_voigt(damping) -> tuple[float, float]:
+    """(omega1, Kelvin-Voigt time constant) giving ``damping`` of critical in the first mode."""
     if not (isinstance(damping, (int, float)) and 0 <= damping < 1):
         raise InputError(f"damping must be a fraction of critical in [0, 1), got {damping!r}")
     omega1 = first_bending_frequency(slider_crank_model(0.0))
     # Kelvin-Voigt S_d = beta S gives modal damping beta * omega / 2 with the crank fixed
-    model = slider_crank_model(2.0 * damping / omega1)
+    return omega1, 2.0 * damping / omega1
+
+
+def slider_crank_nonlinear(damping: float = 0.02, rod_elements: int = 2):
+    """The full non-linear equations (4) of the slider-crank as a ``periodyn.DAE`` (an ODE
+    in the rod's end rotations, ``periodyn.nonlinear.element_dae``); damping as in
+    :func:`slider_crank`."""
+    from ..nonlinear.elements import element_dae
+
+    _, beta = _kelvin_voigt(damping)
+    return element_dae(slider_crank_model(beta, rod_elements), name=f"slider_crank_nonlinear(damping={damping})")
+
+
+def slider_crank(damping: float = 0.02, samples: int = 64):
+    """OmegaSplitModel of the slider-crank; damping = fraction of critical in the rod's
+    first mode with the crank fixed (0.01 and 0.02 in the paper); samples = crank
+    angles per revolution. metadata["omega1"]: the first bending frequency (rad/s)."""
+    omega1, beta = _kelvin_voigt(damping)
+    model = slider_crank_model(beta)
     return omega_split(model, samples, name=f"slider_crank(damping={damping})",
                        rebuild=lambda p: slider_crank(damping, p),
-                       metadata={"omega1": omega1, "damping": float(damping), "kelvin_voigt": 2.0 * damping / omega1})
+                       metadata={"omega1": omega1, "damping": float(damping), "kelvin_voigt": beta})

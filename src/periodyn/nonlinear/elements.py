@@ -47,8 +47,8 @@ class _Configurations:
     def start(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Warm starts (X, Qx, FQ) for Q (b, n_q): configurations within MAX_STEP of Q."""
         b = Q.shape[0]
-        if b in self.sets:
-            X, Qx, FQ = (a.copy() for a in self.sets[b])
+        if b in self.sets:  # updated in place by the kernel, row by row
+            X, Qx, FQ = self.sets[b]
         elif self.sets:  # another batch size: start every row from the latest first row
             X, Qx, FQ = (np.repeat(a[:1], b, axis=0) for a in self.sets[next(reversed(self.sets))])
         else:
@@ -85,7 +85,7 @@ def _check(model, info: np.ndarray, Q: np.ndarray) -> None:
 
 class ElementEquations:
     """Batch evaluator of the accelerations of an element model (module docstring);
-    remembers the last evaluation so force and Jacobians at one state cost one pass."""
+    remembers the last Jacobian evaluation, so repeated Jacobians at one state cost one pass."""
 
     def __init__(self, model):
         if model.independent:
@@ -97,16 +97,16 @@ class ElementEquations:
         self.configurations = _Configurations(model)
         self._last = None
         self._none = np.empty((1, 1, 1))
+        self.rates, self.n_inputs = np.asarray(model.input_rates, float), model.n_inputs
 
     def inputs(self, q, qd, t, omega) -> tuple[np.ndarray, np.ndarray]:
         """Full q and q̇ (b, n_q) of dynamic states q, qd (b, n_d) at times t (b,)."""
-        m = self.model
-        b, nr = q.shape[0], m.n_inputs
+        b, nr = q.shape[0], self.n_inputs
         Q = np.empty((b, nr + q.shape[1]))
         Qd = np.empty_like(Q)
-        Q[:, :nr] = (omega * np.asarray(t, float)).reshape(-1, 1) * m.input_rates
+        Q[:, :nr] = np.multiply.outer(omega * np.asarray(t, float), self.rates).reshape(b, nr)
         Q[:, nr:] = q
-        Qd[:, :nr] = omega * m.input_rates
+        Qd[:, :nr] = omega * self.rates
         Qd[:, nr:] = qd
         return Q, Qd
 
@@ -115,7 +115,7 @@ class ElementEquations:
         q = np.ascontiguousarray(q, dtype=float)
         qd = np.ascontiguousarray(qd, dtype=float)
         last = self._last
-        if (last is not None and jacobians <= last[0] and last[1] == float(omega) and np.array_equal(last[2], q)
+        if (jacobians and last is not None and last[0] and last[1] == float(omega) and np.array_equal(last[2], q)
                 and np.array_equal(last[3], qd) and np.array_equal(last[4], t)):
             return last[5:]
         Q, Qd = self.inputs(q, qd, t, omega)
@@ -129,9 +129,10 @@ class ElementEquations:
         if info[:, 0].min() < 0:
             _check(self.model, info, Q)
         self.configurations.keep(X, Qx, FQ)
-        self._last = (jacobians, float(omega), q.copy(), qd.copy(), np.array(t, float), acc,
-                      Gq if jacobians else None, Gv if jacobians else None)
-        return self._last[5:]
+        if not jacobians:
+            return acc, None, None
+        self._last = (True, float(omega), q.copy(), qd.copy(), np.array(t, float), acc, Gq, Gv)
+        return acc, Gq, Gv
 
 
 def element_dae(model, *, name: str | None = None):
