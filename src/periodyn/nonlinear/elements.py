@@ -16,14 +16,17 @@ and needs no constraint stabilization in time integration.
 
 Configurations x = F(q) are found by Newton from warm starts: the configurations solved
 at the previous call for the same batch size (integrators and shooting move in small
-steps), approached in steps of at most ``MAX_STEP`` in q when the new state is far.
+steps), approached in steps of at most ``MAX_STEP`` in q when the new state is far. A
+state whose configuration cannot be found (a trial step of an integrator far beyond the
+mechanism's reach) gets NaN accelerations: step-size control rejects such a step, and
+Newton solvers report the non-convergence (ConvergenceError).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..errors import InputError
 from ..kernels import assembly
 from ..kernels import nonlinear as kernel
 from ..kernels.outputs import midpoint_deflection
@@ -62,25 +65,16 @@ class _Configurations:
                 out, info = np.empty((len(path), X.shape[1])), np.zeros((len(path), 2))
                 failed = assembly.track(self.model.arrays, X[k].copy(), Qx[k].copy(), path, self.tol,
                                         NEWTON_MAX_ITER, MAX_HALVINGS, out, info)
-                _check(self.model, info[failed:failed + 1] if failed >= 0 else info[:0], path[failed:failed + 1])
-                X[k], Qx[k] = out[-1], path[-1]
+                last = len(path) - 1 if failed < 0 else failed - 1  # the kernel reports a failure itself
+                if last < 0:
+                    continue
+                X[k], Qx[k] = out[last], path[last]
                 FQ[k] = assembly.input_jacobian(self.model.arrays, X[k])
         return X, Qx, FQ
 
     def keep(self, X: np.ndarray, Qx: np.ndarray, FQ: np.ndarray) -> None:
         self.sets.pop(X.shape[0], None)
         self.sets[X.shape[0]] = (X, Qx, FQ)
-
-
-def _check(model, info: np.ndarray, Q: np.ndarray) -> None:
-    bad = np.nonzero(info[:, 0] < 0)[0]
-    if bad.size:
-        k = bad[0]
-        kind = "singular constraint Jacobian" if info[k, 0] == -1 else "no convergence"
-        raise ConvergenceError(f"model '{model.name}': configuration Newton failed at q = {Q[k].tolist()} ({kind}, "
-                               f"residual {info[k, 1]:.3g}); the deformation is too large for the mechanism, "
-                               "or the integration step jumped: lower the integrator tolerances",
-                               float(info[k, 1]), int(NEWTON_MAX_ITER))
 
 
 class ElementEquations:
@@ -126,8 +120,11 @@ class ElementEquations:
         info = np.zeros((b, 2))
         kernel.accelerations(self.model.arrays, Q, Qd, X, Qx, FQ, self.configurations.tol, NEWTON_MAX_ITER, MAX_HALVINGS,
                              jacobians, acc, Gq, Gv, info)
-        if info[:, 0].min() < 0:
-            _check(self.model, info, Q)
+        failed = info[:, 0] < 0
+        if failed.any():  # rejected by a step-size control, reported by a Newton solver
+            acc[failed] = np.nan
+            if jacobians:
+                Gq[failed] = Gv[failed] = np.nan
         self.configurations.keep(X, Qx, FQ)
         if not jacobians:
             return acc, None, None
