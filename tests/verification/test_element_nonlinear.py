@@ -78,6 +78,20 @@ def test_linearizing_about_the_rigid_motion_gives_the_rheo_linear_system(crank):
     np.testing.assert_allclose(lin.mass @ Gv, -lin.damping, rtol=0, atol=1e-10 * np.abs(lin.damping).max())
 
 
+def test_states_beyond_the_mechanisms_reach_get_nan_and_leave_the_others_intact(crank):
+    """A trial state far outside the reach of the kinematics (end rotations of -3 rad)
+    gets NaN accelerations (step control rejects it); its neighbours in the batch and
+    the next calls are unaffected."""
+    dae = element_dae(crank)
+    q = np.array([[1e-3, 0, 0, 0], [-3.0, -3.0, -3.0, -3.0], [2e-3, 0, 0, 0]])
+    t = np.array([0.001, 0.002, 0.003])
+    acc = dae.force(q, np.zeros((3, 4)), t, OMEGA, {})
+    assert np.isnan(acc[1]).all() and np.isfinite(acc[[0, 2]]).all()
+    fresh = element_dae(crank).force(q[[0, 2]], np.zeros((2, 4)), t[[0, 2]], OMEGA, {})
+    np.testing.assert_allclose(acc[[0, 2]], fresh, rtol=1e-12)
+    np.testing.assert_allclose(dae.force(q[[0, 2, 0]], np.zeros((3, 4)), t[[0, 2, 0]], OMEGA, {})[:2], fresh, rtol=1e-12)
+
+
 def test_element_pendulum_equals_equation_28():
     """The element-built elliptic pendulum (mass 1 kg, l = 1 m) is eq. (28) exactly."""
     dae = element_dae(elliptic_pendulum_model())
