@@ -9,9 +9,10 @@ samples (pyFFTW) -> per-sample evaluation -> FFT.
 
 Newton Jacobian (no finite differences): per-sample derivative matrices
 ``K = -df/dq + sum lam_k Phi_k,qq (+ d(M a)/dq)``, ``C = -df/dq'``, ``M``, ``Phi_q`` are
-turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``); only the
-(i, j) pairs where a sampled matrix is non-zero are kept, so the Jacobian is a sparse
-matrix of dense harmonic blocks, factorised by SuperLU.
+turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``) on a sparsity
+pattern fixed at the first evaluation (``periodyn.dae.jacobian``: dense blocks only for
+entries that vary along the orbit, c I / c D / c D^2 for constant ones, a fill-reducing
+ordering chosen once), factorised by SuperLU.
 
 Sampling rule (anti-aliasing): the Jacobian blocks need the spectra of the sampled
 matrices up to harmonic 2H, and a cubic term q^3 has 3H harmonics that must not fold
@@ -26,13 +27,13 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import InputError
 from ..nonlinear.newton import newton
 from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
-from .fourier import complex_to_real, derivative_matrix, product_blocks, real_coefficients, real_samples, real_to_complex
+from .fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
+from .jacobian import JacobianPattern, block_needs
 from .linearization import linearize_orbit, orbit_exponents
 from .model import DAE
 
@@ -74,6 +75,7 @@ class IHBProblem:
         self.size = (self.n + self.m) * self.L
         self.D = derivative_matrix(self.H)
         self.theta = sample_angles(self.p)
+        self._pattern = None  # JacobianPattern of the Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -137,10 +139,11 @@ class IHBProblem:
         P = sysm.parameters if params is None else params
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         M = sysm.mass(q)
-        r1 = np.einsum("pij,pj->pi", M, qdd) - sysm.force(q, qd, t, omega, P)
+        Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
+        r1 = Ma - sysm.force(q, qd, t, omega, P)
         if self.m:
             Pq = sysm.constraint_jacobian(q, t, omega, P)
-            r1 += np.einsum("pki,pk->pi", Pq, lam)
+            r1 += np.matmul(lam[:, None, :], Pq)[:, 0]
             r2 = sysm.constraint(q, t, omega, P)
             R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H))
         else:
@@ -157,29 +160,16 @@ class IHBProblem:
         return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
 
     def _assemble(self, Kt, Ct, M, Pq, omega):
-        L, n = self.L, self.n
-        Om = omega / self.nu
-        mask = np.any(Kt != 0, axis=0) | np.any(Ct != 0, axis=0) | np.any(M != 0, axis=0)
-        I, J = np.nonzero(mask)
-        E = len(I)
-        S = np.concatenate([Kt[:, I, J], Ct[:, I, J], M[:, I, J]], axis=1)
-        G = product_blocks(S, self.H)
-        D1 = Om * self.D
-        D2 = D1 @ D1
-        blocks = [G[:E] + G[E:2 * E] @ D1 + G[2 * E:] @ D2]
-        rows = [I * L]
-        cols = [J * L]
-        if Pq is not None:
-            Kc, Jc = np.nonzero(np.any(Pq != 0, axis=0))
-            GP = product_blocks(Pq[:, Kc, Jc], self.H)
-            blocks += [GP, GP]
-            rows += [Jc * L, (n + Kc) * L]
-            cols += [(n + Kc) * L, Jc * L]
-        data = np.concatenate([b.ravel() for b in blocks])
-        r = np.arange(L)
-        rr = np.concatenate([(ro[:, None, None] + r[None, :, None] + 0 * r[None, None, :]).ravel() for ro in rows])
-        cc = np.concatenate([(co[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel() for co in cols])
-        return sp.csc_matrix((data, (rr, cc)), shape=(self.size, self.size))
+        """Sparse Jacobian on the problem's fixed pattern (``periodyn.dae.jacobian``), rebuilt
+        (larger) only when an evaluation needs a block or a harmonic band outside it."""
+        if Pq is None:
+            Pq = np.zeros((Kt.shape[0], 0, self.n))
+        need, varying, constants, spectra = block_needs(Kt, Ct, M, Pq, self.H)
+        pat = self._pattern
+        if pat is None or not pat.fits(need):
+            pat = self._pattern = (JacobianPattern(self.H, self.n, self.m, need) if pat is None else
+                                   JacobianPattern(self.H, self.n, self.m, pat.widened(need), pat.ordering.method))
+        return pat.assemble(omega / self.nu, varying, constants, spectra)
 
     # ------------------------------------------------------------------ results
     def linearization(self, X, omega, params=None):
