@@ -28,7 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from ..nonlinear.newton import newton
 from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
@@ -217,7 +217,13 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
     prob = IHBProblem(system, harmonics, samples, subharmonic)
     if initial is None:
         X0 = prob.initial(omega=float(omega), params=params)
-    elif isinstance(initial, PeriodicSolution):
+        try:
+            res = prob.newton(X0, float(omega), params, tol, max_iter)
+        except ConvergenceError as exc:
+            res = _stepped_start(prob, float(omega), params, tol, max_iter, exc)
+        exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
+        return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+    if isinstance(initial, PeriodicSolution):
         X0 = prob.from_solution(initial)
     else:
         a = np.asarray(initial, float)
@@ -228,3 +234,58 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
     res = prob.newton(X0, float(omega), params, tol, max_iter)
     exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
     return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+
+
+_EASY_HALVINGS = 6  # start speeds tried: omega / 2, omega / 4, ... omega / 64
+_FIRST_RATIO, _MAX_RATIO, _MIN_RATIO = 1.25, 2.0, 1.0 + 1e-4  # speed ratios of the stepping
+
+
+def _stepped_start(prob: IHBProblem, omega: float, params, tol: float, max_iter: int, first: ConvergenceError):
+    """Default start when Newton from the static configuration fails at ``omega``: the same
+    start at a lower speed (omega/2, omega/4, ...: slower driving is closer to static), then
+    steps up in speed to ``omega``, each Newton from the secant prediction of the last two
+    orbits, the speed ratio growing after easy steps and halving (in log omega) after a
+    failure. Raises ConvergenceError saying what was tried and what to change."""
+    tried = [f"Newton from the static configuration at {omega:.6g} rad/s (residual {first.residual:.3g} after "
+             f"{first.iterations} iterations)"]
+    w, X = omega, None
+    for _ in range(_EASY_HALVINGS):
+        w *= 0.5
+        try:
+            X = prob.newton(prob.initial(omega=w, params=params), w, params, tol, max_iter).x
+            break
+        except ConvergenceError:
+            continue
+    if X is None:
+        tried.append(f"the same start at {omega / 2:.6g} .. {w:.6g} rad/s (halving the speed)")
+        raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                               ". Pass initial= a solution at a nearby speed (periodyn.continuation from a speed "
+                               "where the orbit is known), or a configuration close to the orbit's mean",
+                               first.residual, first.iterations)
+    tried.append(f"a converged start at {w:.6g} rad/s")
+    path = [(np.log(w), X)]
+    ratio = _FIRST_RATIO
+    while w < omega:
+        w_new = min(w * ratio, omega)
+        if len(path) > 1:  # secant in log omega
+            (l0, X0), (l1, X1) = path[-2], path[-1]
+            guess = X1 + (X1 - X0) * (np.log(w_new) - l1) / (l1 - l0)
+        else:
+            guess = X
+        try:
+            res = prob.newton(guess, w_new, params, tol, max_iter)
+        except ConvergenceError as exc:
+            ratio = np.sqrt(ratio)
+            if ratio < _MIN_RATIO:
+                tried.append(f"stepping up in speed from there, stopped at {w:.6g} rad/s (no step above a ratio "
+                             f"{_MIN_RATIO:g} converged: residual {exc.residual:.3g}; a fold or a bifurcation of "
+                             f"the orbit family may lie between {w:.6g} and {omega:.6g} rad/s)")
+                raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                                       ". Follow the branch with periodyn.continuation(system, "
+                                       f"({w:.6g}, {omega:.6g}), ...) (it passes folds) and start from its solution",
+                                       exc.residual, exc.iterations) from None
+            continue
+        w, X = w_new, res.x
+        path.append((np.log(w), X))
+        ratio = min(ratio ** (1.5 if res.iterations <= 4 else 1.0), _MAX_RATIO)
+    return res
