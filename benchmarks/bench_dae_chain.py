@@ -2,6 +2,12 @@
 vs numerical integration to steady state, side by side in one run (one core).
 
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_dae_chain.py [--harmonics 10]
+        [--curve-only] [--profile N]
+
+Before/after in one command (the same script on the previous tree and on this one):
+
+    for src in /work/main/src src /work/main/src src; do OPENBLAS_NUM_THREADS=1 NUMBA_NUM_THREADS=1 \
+        PYTHONPATH=$src python benchmarks/bench_dae_chain.py --curve-only; done
 
 Prints: IHB unknowns, time per continuation point and for the full response curve
 (omega 2..12 rad/s), time per point with Floquet stability, and at a few frequencies the
@@ -17,7 +23,9 @@ IHB orbit) to shrink the measured deviation to 1e-6; ``--settle`` measures it ou
 from __future__ import annotations
 
 import argparse
+import cProfile
 import os
+import pstats
 import time
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -25,6 +33,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+import periodyn  # noqa: E402
 from periodyn.continuation import continuation  # noqa: E402
 from periodyn.dae import ihb  # noqa: E402
 from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
@@ -40,17 +49,29 @@ def main(argv=None) -> dict:
     ap.add_argument("--periods", type=int, default=3, help="periods integrated to time one period")
     ap.add_argument("--settle", action="store_true",
                     help="integrate to steady state for real (feasible for small chains, e.g. --rods 5)")
+    ap.add_argument("--omega-max", type=float, default=12.0, help="end of the response curve (from 2 rad/s)")
+    ap.add_argument("--curve-only", action="store_true", help="time the response curve only (no integration)")
+    ap.add_argument("--profile", type=int, default=0, metavar="N",
+                    help="profile the response curve and print its N most expensive functions (own time)")
     args = ap.parse_args(argv)
     s = slider_chain_pendulum(args.rods)
     H = args.harmonics
     ihb(s, 5.0, H, stability=None)  # JIT compilation and FFT plans outside the timings
+    print(f"periodyn from {os.path.dirname(os.path.dirname(periodyn.__file__))}")
     print(f"slider-chain pendulum: {args.rods + 1} bodies, n = {s.n}, m = {s.m}, H = {H}, "
           f"IHB unknowns = {(s.n + s.m) * (2 * H + 1)}")
 
-    t0 = time.perf_counter()
-    br = continuation(s, (2.0, 12.0), harmonics=H, stability=None, ds_max=0.1, max_points=600)
-    t_curve = time.perf_counter() - t0
-    print(f"response curve 2..12 rad/s: {len(br)} points in {t_curve:.2f} s = {t_curve / len(br):.3f} s/point "
+    prof = cProfile.Profile() if args.profile else None
+    t0, c0 = time.perf_counter(), time.process_time()
+    if prof:
+        prof.enable()
+    br = continuation(s, (2.0, args.omega_max), harmonics=H, stability=None, ds_max=0.1, max_points=600)
+    t_curve, c_curve = time.perf_counter() - t0, time.process_time() - c0
+    if prof:
+        prof.disable()
+        pstats.Stats(prof).sort_stats("tottime").print_stats(args.profile)
+    print(f"response curve 2..{args.omega_max:g} rad/s: {len(br)} points in {t_curve:.2f} s = {t_curve / len(br):.3f} "
+          f"s/point (CPU {c_curve / len(br):.3f} s/point) "
           f"(mean {br.iterations.mean():.2f} Newton iterations, max residual {br.residual.max():.2e}); "
           f"folds at {', '.join(f'{p.omega:.4f}' for p in br.points('fold'))} rad/s; status: {br.status}")
 
@@ -59,6 +80,8 @@ def main(argv=None) -> dict:
         ihb(s, sol.omega, H, initial=sol, stability="magnus")
     k = len(br.solutions[::max(1, len(br) // 8)][:8])
     print(f"IHB point + Floquet multipliers (Magnus, {2 * (s.n - s.m)} multipliers): {(time.perf_counter() - t0) / k:.3f} s/point")
+    if args.curve_only:
+        return dict(points=len(br), s_per_point=t_curve / len(br), curve_s=t_curve)
 
     print("integration: stabilized index-1 DAE, DOP853 rtol 1e-8, from rest at the hanging chain")
     print(f"{'omega rad/s':>11} {'IHB s':>8} {'int s/period':>12} {'periods':>8} {'int total s':>11} {'ratio':>7} "

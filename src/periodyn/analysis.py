@@ -125,6 +125,7 @@ class SpeedBatch:
 
 _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
 _DENSE_BALANCE_MAX = 400  # HB size up to which wide-band speeds are solved as stacked real dense systems
+_EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier exp(lambda T) is finite
 _JIT_BANDED_MAX = 20_000  # N u^2 up to which the jitted banded LU beats a LAPACK call per speed
 
 
@@ -244,6 +245,10 @@ class SpeedSolver:
             for i in np.nonzero(~finite)[0]:
                 message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is not finite; use "
                               "method='monodromy' (adaptive steps) or check the model's coefficients")
+            for i in np.nonzero(finite & np.isnan(exps).any(axis=1))[0]:
+                message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is singular: a mode decays "
+                              "by more than 1e-308 in one period, so its exponent is not determined; use Hill's "
+                              "method (method='dense' or 'sparse') or check the model's damping")
             return exps, message
         methods = np.array([name for name, _ in self.hill_methods(w)])
         dense = np.nonzero(methods == "dense")[0]
@@ -261,6 +266,13 @@ class SpeedSolver:
                     exps[i] = operator_exponents(self.harmonic.at(w[i]), methods[i]).exponents
             except ConvergenceError as exc:
                 message[i] = str(exc) or type(exc).__name__
+        # the multiplier exp(lambda T) must be a number: Re(lambda) T above the double range is no exponent
+        growth = exps.real.max(axis=1) * (2 * np.pi / w)
+        for i in np.nonzero((message == "") & (growth > _EXP_MAX))[0]:
+            exps[i] = np.nan
+            message[i] = (f"an exponent at omega = {w[i]:.6g} rad/s has Re(lambda) T = {growth[i]:.3g}, beyond the "
+                          "range of the multiplier exp(lambda T): the model's coefficients are out of the range the "
+                          "solver resolves (rescale it or add harmonics)")
         return exps, message
 
     def _solve_chunk(self, w: np.ndarray) -> SpeedBatch:

@@ -149,6 +149,10 @@ def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):
         raise ConvergenceError(f"the monodromy matrix ({method}) at omega = {omega:.6g} rad/s is not finite; "
                                "use method='monodromy' (adaptive steps) or check the model's coefficients")
     lam = monodromy_exponent_array(Phi[None], np.array([float(omega)]))[0]
+    if np.isnan(lam).any():
+        raise ConvergenceError(f"the monodromy matrix ({method}) at omega = {omega:.6g} rad/s is singular: a mode "
+                               "decays by more than 1e-308 in one period, so its exponent is not determined; use "
+                               "Hill's method (method='dense' or 'sparse') or check the model's damping")
     nan = np.full(lam.size, np.nan)
     return FloquetExponents(float(omega), lam, nan, nan, method)
 
@@ -156,9 +160,13 @@ def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):
 def monodromy_exponent_array(Phi: np.ndarray, omegas: np.ndarray) -> np.ndarray:
     """Exponents (S, d) from monodromy matrices (S, d, d) at speeds omegas (S,) rad/s: the
     principal logarithms of the multipliers (|Im| <= omega/2), sorted by real then
-    imaginary part."""
-    mu = np.linalg.eigvals(Phi)
-    lam = np.log(mu.astype(complex)) * (np.asarray(omegas, float)[:, None] / (2 * np.pi))
+    imaginary part. A row with a zero multiplier (the monodromy underflowed: a mode decays
+    by more than the double range, 1e-308, in one period, so its exponent is not
+    determined) is NaN."""
+    mu = np.linalg.eigvals(Phi).astype(complex)
+    ok = np.all(mu != 0, axis=-1)
+    lam = np.full(mu.shape, np.nan + 0j)
+    lam[ok] = np.log(mu[ok]) * (np.asarray(omegas, float)[ok, None] / (2 * np.pi))
     return np.take_along_axis(lam, np.lexsort((lam.imag, lam.real), axis=-1), -1)
 
 

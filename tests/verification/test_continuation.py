@@ -7,6 +7,7 @@ from scipy.optimize import fsolve
 from periodyn.continuation import continuation, switch_period_doubling
 from periodyn.dae import ihb
 from periodyn.examples.dae_examples import duffing, inverted_pendulum, rod_pendulum
+from periodyn.examples.pendulum import pendulum_nonlinear
 from periodyn.nonlinear import shooting
 
 ZETA, ALPHA, F = 0.05, 1.0, 0.1
@@ -119,3 +120,21 @@ def test_oversized_steps_are_recovered_and_give_the_same_folds():
     np.testing.assert_allclose(sorted(p.omega for p in coarse.points("fold")),
                                sorted(p.omega for p in fine.points("fold")), rtol=1e-8)
     assert np.all(coarse.residual <= 1e-8)
+
+
+def test_nonlinear_elliptic_pendulum_branch_reaches_the_end_with_defaults():
+    """Eq. (28) over 0.1-1.4 omega0 in one call with default options: the first orbit is tiny
+    (amplitude 2.5e-3 rad), the resonance near omega0/2 swings 2 rad; the step scale grows
+    with the branch, so the end is reached in far fewer than 1,000 points."""
+    w0 = np.sqrt(9.81)
+    br = continuation(pendulum_nonlinear(), (0.1 * w0, 1.4 * w0))
+    assert br.status == "parameter range covered" and br.omega[-1] >= 1.4 * w0
+    assert len(br) < 1000 and br.amplitude.max() > 1.0
+    assert np.all(br.residual <= 1e-8)
+    # the resonance near omega0/2 bends over: a pair of folds around it
+    assert sum(0.45 * w0 < p.omega < 0.95 * w0 for p in br.points("fold")) == 2
+
+
+def test_a_branch_ended_early_says_why_and_which_option_to_change():
+    br = continuation(duffing(ZETA, ALPHA, F), (0.6, 1.8), harmonics=3, max_points=6)
+    assert br.status.startswith("max_points reached") and "raise max_points" in br.status and len(br) == 6

@@ -114,16 +114,6 @@ class _Shooting:
         return self.prob.solution(X, om, P, rn, it, exps, self.H)
 
 
-def _scales(groups, X0: np.ndarray) -> np.ndarray:
-    """Per-unknown scales: RMS of each unknown group (e.g. q and lambda coefficients)."""
-    s = np.empty_like(X0)
-    ref = max(np.sqrt(np.mean(X0 ** 2)), 1e-12)
-    for g in groups or [np.arange(len(X0))]:
-        if len(g):
-            s[g] = max(np.sqrt(np.mean(X0[g] ** 2)), 1e-6 * ref, 1e-12)
-    return s
-
-
 def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
                  initial=None, tangent=None, options: ContinuationOptions | None = None, progress=None,
                  **option_values) -> Branch:
@@ -159,8 +149,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     if method not in ("ihb", "shooting"):
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
     disc = (_IHB if method == "ihb" else _Shooting)(system, harmonics, opts, initial, *at(p0))
-    arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)),
-              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter)
+    arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
+              p0, disc.tol, opts.max_iter)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))
@@ -243,10 +233,11 @@ def _refine_fold(arc, a, b):
     """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
     by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
     L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
+    ta = a.t / arc.norm(a.t)  # unit in the arc's present scale (it may have grown since a)
 
     def g(s, *_):
         try:
-            pt = arc.correct(a.X + s * L * a.t[:arc.N], a.p + s * L * a.t[arc.N], a.t, exact_tangent=True)
+            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True)
         except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
             return None
         return pt.t[arc.N], pt

@@ -5,8 +5,10 @@ The driver only sees ``equations(X, p) -> (R (N,), J)`` (J sparse or dense) and
 Newton Jacobian of the discretization, only in the bordered rows).
 
 Scaling: unknowns are compared in the weighted norm
-``|dX|^2 = sum_i (dX_i / s_i)^2 / N + (dp / s_p)^2`` with per-unknown scales s (e.g. RMS
-of displacement and multiplier coefficient groups at the first point) and s_p = |p_0|.
+``|dX|^2 = sum_i (dX_i / s_i)^2 / N + (dp / s_p)^2`` with per-unknown scales s (the RMS of
+each unknown group, e.g. displacement and multiplier coefficients, at the first point, and
+raised to the largest RMS met on the branch since: a branch starting at a tiny amplitude
+must not keep steps of that size through its resonance) and s_p = |p_0|.
 Steps: tangent predictor, Newton corrector (``periodyn.nonlinear.newton``) on the bordered
 system (R = 0 plus the hyperplane through the predictor normal to the tangent); ds grows
 x1.5 after an easy step (<= 3 iterations), shrinks x0.7 after a hard one (>= 6), halves
@@ -44,16 +46,32 @@ class ArcPoint:
 class Arc:
     """Bordered system of one continuation problem.
 
-    equations(X, p) -> (R, J); residual(X, p) -> R; scales (N,); p0 sets the parameter
-    scale; tol: residual max-norm; max_iter: corrector Newton updates.
+    equations(X, p) -> (R, J); residual(X, p) -> R; groups: index arrays of the unknown
+    groups sharing a scale (None: one group); X0 (N,) the first point, p0 sets the
+    parameter scale; tol: residual max-norm; max_iter: corrector Newton updates.
     """
 
-    def __init__(self, equations: Callable, residual: Callable, scales: np.ndarray, p0: float, tol: float,
+    def __init__(self, equations: Callable, residual: Callable, groups, X0: np.ndarray, p0: float, tol: float,
                  max_iter: int):
         self.equations, self.residual, self.tol, self.max_iter = equations, residual, tol, max_iter
-        self.N = len(scales)
-        self.w = 1.0 / (np.asarray(scales) ** 2 * self.N)
+        self.N = len(X0)
+        self.groups = [g for g in (groups or [np.arange(self.N)]) if len(g)]
+        ref = max(np.sqrt(np.mean(np.asarray(X0) ** 2)), 1e-12)
+        self.floor = max(1e-6 * ref, 1e-12)
+        self.scales = np.empty(len(self.groups))
+        self.follow(X0, first=True)
         self.wp = 1.0 / max(abs(p0), 1e-6) ** 2
+
+    def follow(self, X, first: bool = False) -> bool:
+        """Raise the group scales to the RMS of X where it is larger; True when any changed."""
+        rms = np.array([max(np.sqrt(np.mean(X[g] ** 2)), self.floor) for g in self.groups])
+        grow = first or bool(np.any(rms > self.scales))
+        if grow:
+            self.scales = rms if first else np.maximum(self.scales, rms)
+            self.w = np.empty(self.N)
+            for g, sc in zip(self.groups, self.scales):
+                self.w[g] = 1.0 / (sc ** 2 * self.N)
+        return grow
 
     def dR_dp(self, X, p) -> np.ndarray:
         h = _H_REL * max(abs(p), 1e-3)
@@ -115,6 +133,8 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
         if (pt.p - p_stop) * direction >= 0 and count > 1:
             yield "parameter range covered"
             return
+        if arc.follow(pt.X):  # the branch grew: steps in the new scale, tangent of unit length in it
+            pt = ArcPoint(pt.X, pt.p, pt.t / arc.norm(pt.t), pt.residual, pt.iterations)
         new = None
         while ds >= ds_min:
             try:
@@ -127,8 +147,9 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
             new = None
             ds *= 0.5
         if new is None:
-            yield (f"step size below ds_min={ds_min:g} at parameter {pt.p:.6g}: corrector failed "
-                   "(possible branch point)")
+            yield (f"step size below ds_min={ds_min:g} at parameter {pt.p:.6g} (stop {p_stop:.6g}): the corrector "
+                   f"failed; lower ds_min, raise max_iter (now {arc.max_iter}), or, at a branch point, follow the "
+                   "other branch with switch_branch")
             return
         yield new
         pt, count = new, count + 1
@@ -136,7 +157,8 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
             ds = min(ds * 1.5, ds_max)
         elif new.iterations >= 6:
             ds *= 0.7
-    yield "max_points reached"
+    yield (f"max_points reached: {max_points} points ended at parameter {pt.p:.6g} before the stop {p_stop:.6g}; "
+           f"raise max_points, or ds_max (now {ds_max:g}) for longer steps")
 
 
 def first_point(arc: Arc, X0, p0: float, p_stop: float, tangent=None) -> ArcPoint:

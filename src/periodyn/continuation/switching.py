@@ -75,7 +75,7 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
                         samples=prob2.p, tangent=tangent, **opts)
 
 
-def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, **kwargs) -> Branch:
+def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: int = 1, **kwargs) -> Branch:
     """Follow the branch crossing an IHB ``branch`` at a branch ``point`` toward parameter
     ``p_stop``.
 
@@ -84,10 +84,12 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, **kwargs) 
     not the known branch's tangent; the first predictor is (phi, dp = 0), the tangent of
     the new branch of a pitchfork (the new branch is p - p* ~ s^2; for a transcritical
     point the corrector bends the step onto it). The new branch is then traced by the
-    usual pseudo-arc-length steps from the orbit at the point; kwargs go to
-    :func:`continuation` (e.g. ds sets the first step, and with it which side of the
-    pitchfork's mirror pair is taken via its sign: ds > 0 along +phi).
+    usual pseudo-arc-length steps from the orbit at the point; side (+1 or -1) takes the
+    first step along +phi or -phi (the two mirror branches of a pitchfork, the two halves of
+    a transcritical crossing); kwargs go to :func:`continuation` (e.g. ds, the first step).
     """
+    if side not in (1, -1):
+        raise InputError(f"side must be +1 or -1 (the sign of the first step along the critical vector), got {side!r}")
     if point.type != "branch-point":
         raise InputError(f"point is a {point.type!r}, not a branch point")
     prob = branch.problem
@@ -98,7 +100,7 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, **kwargs) 
                          "smaller ds_max so its refinement converges")
     name = branch.parameter_name
     sol = point.solution
-    tangent = np.concatenate([point.eigenvector, [0.0]])
+    tangent = np.concatenate([side * point.eigenvector, [0.0]])
     omega_arg = (point.parameter, p_stop) if name is None else point.omega
     param_arg = None if name is None else (name, point.parameter, p_stop)
     opts = {k: branch.options[k] for k in ("stability", "tol", "ds_max", "ds_min", "max_iter") if k in branch.options}

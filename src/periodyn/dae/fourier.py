@@ -13,7 +13,7 @@ import numpy as np
 
 from ..spectra import fourier_coefficients, to_samples
 
-__all__ = ["real_to_complex", "complex_to_real", "derivative_matrix", "product_blocks",
+__all__ = ["real_to_complex", "complex_to_real", "derivative_matrix", "product_blocks", "spectrum_blocks",
            "real_samples", "real_coefficients"]
 
 
@@ -66,7 +66,11 @@ def product_blocks(samples: np.ndarray, H: int) -> np.ndarray:
     Built from the FFT spectra A_d, d = -2H..2H: with ``C_k = sum_l A_{k-l} X_l``,
     dC_k/da_0 = A_k, dC_k/da_l = (A_{k-l} + A_{k+l})/2, dC_k/db_l = i (A_{k+l} - A_{k-l})/2.
     """
-    A = fourier_coefficients(samples, 2 * H).T  # (E, 4H+1), index d + 2H
+    return spectrum_blocks(fourier_coefficients(samples, 2 * H).T, H)
+
+
+def spectrum_blocks(A: np.ndarray, H: int) -> np.ndarray:
+    """:func:`product_blocks` from the two-sided spectra A (E, 4H+1), index d + 2H."""
     E = A.shape[0]
     k = np.arange(H + 1)[:, None]
     l = np.arange(1, H + 1)[None, :]

@@ -9,9 +9,10 @@ samples (pyFFTW) -> per-sample evaluation -> FFT.
 
 Newton Jacobian (no finite differences): per-sample derivative matrices
 ``K = -df/dq + sum lam_k Phi_k,qq (+ d(M a)/dq)``, ``C = -df/dq'``, ``M``, ``Phi_q`` are
-turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``); only the
-(i, j) pairs where a sampled matrix is non-zero are kept, so the Jacobian is a sparse
-matrix of dense harmonic blocks, factorised by SuperLU.
+turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``) on a sparsity
+pattern fixed at the first evaluation (``periodyn.dae.jacobian``: dense blocks only for
+entries that vary along the orbit, c I / c D / c D^2 for constant ones, a fill-reducing
+ordering chosen once), factorised by SuperLU.
 
 Sampling rule (anti-aliasing): the Jacobian blocks need the spectra of the sampled
 matrices up to harmonic 2H, and a cubic term q^3 has 3H harmonics that must not fold
@@ -26,13 +27,13 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-import scipy.sparse as sp
 
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from ..nonlinear.newton import newton
 from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
-from .fourier import complex_to_real, derivative_matrix, product_blocks, real_coefficients, real_samples, real_to_complex
+from .fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
+from .jacobian import JacobianPattern, block_needs
 from .linearization import linearize_orbit, orbit_exponents
 from .model import DAE
 
@@ -74,6 +75,7 @@ class IHBProblem:
         self.size = (self.n + self.m) * self.L
         self.D = derivative_matrix(self.H)
         self.theta = sample_angles(self.p)
+        self._pattern = None  # JacobianPattern of the Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -137,10 +139,11 @@ class IHBProblem:
         P = sysm.parameters if params is None else params
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         M = sysm.mass(q)
-        r1 = np.einsum("pij,pj->pi", M, qdd) - sysm.force(q, qd, t, omega, P)
+        Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
+        r1 = Ma - sysm.force(q, qd, t, omega, P)
         if self.m:
             Pq = sysm.constraint_jacobian(q, t, omega, P)
-            r1 += np.einsum("pki,pk->pi", Pq, lam)
+            r1 += np.matmul(lam[:, None, :], Pq)[:, 0]
             r2 = sysm.constraint(q, t, omega, P)
             R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H))
         else:
@@ -157,29 +160,16 @@ class IHBProblem:
         return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
 
     def _assemble(self, Kt, Ct, M, Pq, omega):
-        L, n = self.L, self.n
-        Om = omega / self.nu
-        mask = np.any(Kt != 0, axis=0) | np.any(Ct != 0, axis=0) | np.any(M != 0, axis=0)
-        I, J = np.nonzero(mask)
-        E = len(I)
-        S = np.concatenate([Kt[:, I, J], Ct[:, I, J], M[:, I, J]], axis=1)
-        G = product_blocks(S, self.H)
-        D1 = Om * self.D
-        D2 = D1 @ D1
-        blocks = [G[:E] + G[E:2 * E] @ D1 + G[2 * E:] @ D2]
-        rows = [I * L]
-        cols = [J * L]
-        if Pq is not None:
-            Kc, Jc = np.nonzero(np.any(Pq != 0, axis=0))
-            GP = product_blocks(Pq[:, Kc, Jc], self.H)
-            blocks += [GP, GP]
-            rows += [Jc * L, (n + Kc) * L]
-            cols += [(n + Kc) * L, Jc * L]
-        data = np.concatenate([b.ravel() for b in blocks])
-        r = np.arange(L)
-        rr = np.concatenate([(ro[:, None, None] + r[None, :, None] + 0 * r[None, None, :]).ravel() for ro in rows])
-        cc = np.concatenate([(co[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel() for co in cols])
-        return sp.csc_matrix((data, (rr, cc)), shape=(self.size, self.size))
+        """Sparse Jacobian on the problem's fixed pattern (``periodyn.dae.jacobian``), rebuilt
+        (larger) only when an evaluation needs a block or a harmonic band outside it."""
+        if Pq is None:
+            Pq = np.zeros((Kt.shape[0], 0, self.n))
+        need, varying, constants, spectra = block_needs(Kt, Ct, M, Pq, self.H)
+        pat = self._pattern
+        if pat is None or not pat.fits(need):
+            pat = self._pattern = (JacobianPattern(self.H, self.n, self.m, need) if pat is None else
+                                   JacobianPattern(self.H, self.n, self.m, pat.widened(need), pat.ordering.method))
+        return pat.assemble(omega / self.nu, varying, constants, spectra)
 
     # ------------------------------------------------------------------ results
     def linearization(self, X, omega, params=None):
@@ -227,7 +217,13 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
     prob = IHBProblem(system, harmonics, samples, subharmonic)
     if initial is None:
         X0 = prob.initial(omega=float(omega), params=params)
-    elif isinstance(initial, PeriodicSolution):
+        try:
+            res = prob.newton(X0, float(omega), params, tol, max_iter)
+        except ConvergenceError as exc:
+            res = _stepped_start(prob, float(omega), params, tol, max_iter, exc)
+        exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
+        return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+    if isinstance(initial, PeriodicSolution):
         X0 = prob.from_solution(initial)
     else:
         a = np.asarray(initial, float)
@@ -238,3 +234,58 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
     res = prob.newton(X0, float(omega), params, tol, max_iter)
     exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
     return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+
+
+_EASY_HALVINGS = 6  # start speeds tried: omega / 2, omega / 4, ... omega / 64
+_FIRST_RATIO, _MAX_RATIO, _MIN_RATIO = 1.25, 2.0, 1.0 + 1e-4  # speed ratios of the stepping
+
+
+def _stepped_start(prob: IHBProblem, omega: float, params, tol: float, max_iter: int, first: ConvergenceError):
+    """Default start when Newton from the static configuration fails at ``omega``: the same
+    start at a lower speed (omega/2, omega/4, ...: slower driving is closer to static), then
+    steps up in speed to ``omega``, each Newton from the secant prediction of the last two
+    orbits, the speed ratio growing after easy steps and halving (in log omega) after a
+    failure. Raises ConvergenceError saying what was tried and what to change."""
+    tried = [f"Newton from the static configuration at {omega:.6g} rad/s (residual {first.residual:.3g} after "
+             f"{first.iterations} iterations)"]
+    w, X = omega, None
+    for _ in range(_EASY_HALVINGS):
+        w *= 0.5
+        try:
+            X = prob.newton(prob.initial(omega=w, params=params), w, params, tol, max_iter).x
+            break
+        except ConvergenceError:
+            continue
+    if X is None:
+        tried.append(f"the same start at {omega / 2:.6g} .. {w:.6g} rad/s (halving the speed)")
+        raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                               ". Pass initial= a solution at a nearby speed (periodyn.continuation from a speed "
+                               "where the orbit is known), or a configuration close to the orbit's mean",
+                               first.residual, first.iterations)
+    tried.append(f"a converged start at {w:.6g} rad/s")
+    path = [(np.log(w), X)]
+    ratio = _FIRST_RATIO
+    while w < omega:
+        w_new = min(w * ratio, omega)
+        if len(path) > 1:  # secant in log omega
+            (l0, X0), (l1, X1) = path[-2], path[-1]
+            guess = X1 + (X1 - X0) * (np.log(w_new) - l1) / (l1 - l0)
+        else:
+            guess = X
+        try:
+            res = prob.newton(guess, w_new, params, tol, max_iter)
+        except ConvergenceError as exc:
+            ratio = np.sqrt(ratio)
+            if ratio < _MIN_RATIO:
+                tried.append(f"stepping up in speed from there, stopped at {w:.6g} rad/s (no step above a ratio "
+                             f"{_MIN_RATIO:g} converged: residual {exc.residual:.3g}; a fold or a bifurcation of "
+                             f"the orbit family may lie between {w:.6g} and {omega:.6g} rad/s)")
+                raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                                       ". Follow the branch with periodyn.continuation(system, "
+                                       f"({w:.6g}, {omega:.6g}), ...) (it passes folds) and start from its solution",
+                                       exc.residual, exc.iterations) from None
+            continue
+        w, X = w_new, res.x
+        path.append((np.log(w), X))
+        ratio = min(ratio ** (1.5 if res.iterations <= 4 else 1.0), _MAX_RATIO)
+    return res

@@ -59,9 +59,10 @@ def _partition(Pq: np.ndarray) -> np.ndarray:
     over the samples; candidates from pivoted QR at a few samples."""
     p, m, n = Pq.shape
     best, best_cond = None, np.inf
-    for j in np.unique(np.linspace(0, p - 1, min(p, 8)).astype(int)):
-        piv = sla.qr(Pq[j], pivoting=True, mode="r")[1]
-        dep = np.sort(piv[:m])
+    candidates = dict.fromkeys(tuple(np.sort(sla.qr(Pq[j], pivoting=True, mode="r")[1][:m]))
+                               for j in np.unique(np.linspace(0, p - 1, min(p, 8)).astype(int)))
+    for dep in candidates:  # a partition found at several samples is checked once
+        dep = np.array(dep)
         cond = np.max(np.linalg.cond(Pq[:, :, dep]))
         if cond < best_cond:
             best, best_cond = dep, cond

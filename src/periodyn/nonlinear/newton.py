@@ -38,7 +38,11 @@ class NewtonResult:
 
 
 def lu_factor(J) -> Callable:
-    """solve(b) for a square J: SuperLU when sparse, LAPACK LU when dense."""
+    """solve(b) for a square J: SuperLU when sparse (through ``J.fill_ordering.factor`` when
+    the matrix carries an ordering kept for its pattern), LAPACK LU when dense."""
+    ordering = getattr(J, "fill_ordering", None)
+    if ordering is not None:
+        return ordering.factor(J)
     if sp.issparse(J):
         return spla.splu(sp.csc_matrix(J)).solve
     with warnings.catch_warnings():  # an exactly zero pivot is an error here, not a warning
