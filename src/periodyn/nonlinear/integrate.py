@@ -89,10 +89,19 @@ def consistent_state(system, q, qd, t, omega, params=None, tol=1e-13, max_iter=5
     return q, qd
 
 
-def solve(rhs, t_span, y0, *, t_eval=None, rtol=1e-10, atol=1e-12, method="DOP853", max_step=np.inf):
+_IMPLICIT = ("Radau", "BDF", "LSODA")
+
+
+def solve(rhs, t_span, y0, *, t_eval=None, rtol=1e-10, atol=1e-12, method="DOP853", max_step=np.inf, jac=None):
     """The one integrator wrapper: scipy ``solve_ivp`` of y' = rhs(t, y); a failure raises
-    ConvergenceError saying what to try."""
-    sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, max_step=max_step)
+    ConvergenceError saying what to try. ``jac(t, y)`` -> (N, N) (or a constant array) is the
+    analytic Jacobian d rhs / d y used by the implicit methods (Radau, BDF, LSODA); without it
+    they difference the right-hand side column by column."""
+    if jac is not None and method not in _IMPLICIT:
+        raise InputError(f"jac= is used only by the implicit methods {_IMPLICIT}, not by {method!r}; "
+                         "drop jac or choose method='Radau'")
+    extra = {} if jac is None else {"jac": jac}
+    sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, max_step=max_step, **extra)
     if sol.status != 0:
         raise ConvergenceError(f"time integration failed at t={sol.t[-1]:.6g} s: {sol.message}; "
                                "lower the tolerances or check the model", float("nan"), int(sol.nfev))
