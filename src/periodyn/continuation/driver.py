@@ -84,31 +84,28 @@ class _IHB:
 
 
 class _Shooting:
-    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0, parameter=None):
         self.tol = 1e-9 if opts.tol is None else opts.tol
         self.H = harmonics
         if initial is None:  # start from the IHB orbit at the first parameter value
             initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
                           params=P0)
         q, qd = start_state(system, initial, om0, P0)
-        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples)
+        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples, parameter=parameter)
         self.groups = None
         self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
-        self._last = (None, None)  # (key, Jacobian) of the latest evaluation: the monodromy is free there
 
-    def equations(self, X, om, P):
-        R, J = self.prob.residual_jacobian(X, om, P)
-        self._last = ((X.tobytes(), om, tuple(sorted(P.items()))), J)
-        return R, J
+    def equations(self, X, om, P):  # one variational integration gives R, J and dR/dp (cached)
+        return self.prob.equations(X, om, P, sensitivity=True)
+
+    def parameter_derivative(self, X, om, P):
+        return self.prob.parameter_derivative(X, om, P)
 
     def residual(self, X, om, P):
         return self.prob.residual(X, om, P)
 
     def exponents(self, X, om, P):
-        key, J = self._last
-        if key != (X.tobytes(), om, tuple(sorted(P.items()))):
-            J = self.prob.residual_jacobian(X, om, P)[1]
-        return self.prob.exponents(J, om)
+        return self.prob.exponents(X, om, P)
 
     def solution(self, X, om, P, rn, it, exps):
         return self.prob.solution(X, om, P, rn, it, exps, self.H)
@@ -158,9 +155,13 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     if method not in ("ihb", "shooting"):
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
-    disc = (_IHB if method == "ihb" else _Shooting)(system, harmonics, opts, initial, *at(p0))
+    if method == "ihb":
+        disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    else:
+        disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
+        dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)),
-              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter)
+              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter, dR_dp)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))

@@ -45,17 +45,21 @@ class Arc:
     """Bordered system of one continuation problem.
 
     equations(X, p) -> (R, J); residual(X, p) -> R; scales (N,); p0 sets the parameter
-    scale; tol: residual max-norm; max_iter: corrector Newton updates.
+    scale; tol: residual max-norm; max_iter: corrector Newton updates; dR_dp(X, p): the
+    discretization's own parameter derivative (default: central difference of residual).
     """
 
     def __init__(self, equations: Callable, residual: Callable, scales: np.ndarray, p0: float, tol: float,
-                 max_iter: int):
+                 max_iter: int, dR_dp: Callable | None = None):
         self.equations, self.residual, self.tol, self.max_iter = equations, residual, tol, max_iter
+        self._dR_dp = dR_dp
         self.N = len(scales)
         self.w = 1.0 / (np.asarray(scales) ** 2 * self.N)
         self.wp = 1.0 / max(abs(p0), 1e-6) ** 2
 
     def dR_dp(self, X, p) -> np.ndarray:
+        if self._dR_dp is not None:
+            return self._dR_dp(X, p)
         h = _H_REL * max(abs(p), 1e-3)
         return (self.residual(X, p + h) - self.residual(X, p - h)) / (2 * h)
 
