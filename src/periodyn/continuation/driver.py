@@ -16,6 +16,7 @@ from ..dae.ihb import IHBProblem, ihb
 from ..dae.linearization import STABILITY_METHODS
 from ..dae.model import DAE
 from ..errors import ConvergenceError, InputError
+from ..nonlinear.chord import ChordEquations
 from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
@@ -94,12 +95,13 @@ class _Shooting:
         self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples, parameter=parameter)
         self.groups = None
         self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
+        self.chord = ChordEquations(self.prob, self.tol)
 
-    def equations(self, X, om, P):  # one variational integration gives R, J and dR/dp (cached)
-        return self.prob.equations(X, om, P, sensitivity=True)
+    def equations(self, X, om, P):  # reused Jacobians between exact ones (nonlinear.chord)
+        return self.chord.equations(X, om, P)
 
     def parameter_derivative(self, X, om, P):
-        return self.prob.parameter_derivative(X, om, P)
+        return self.chord.parameter_derivative(X, om, P)
 
     def residual(self, X, om, P):
         return self.prob.residual(X, om, P)
@@ -161,7 +163,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)),
-              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter, dR_dp)
+              _scales(disc.groups, disc.X0), p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))

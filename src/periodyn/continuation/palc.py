@@ -46,13 +46,15 @@ class Arc:
 
     equations(X, p) -> (R, J); residual(X, p) -> R; scales (N,); p0 sets the parameter
     scale; tol: residual max-norm; max_iter: corrector Newton updates; dR_dp(X, p): the
-    discretization's own parameter derivative (default: central difference of residual).
+    discretization's own parameter derivative (default: central difference of residual);
+    exact_tangents: factorize the J at each accepted point for its tangent (for
+    correctors whose updates use approximate Jacobians) instead of reusing the last one.
     """
 
     def __init__(self, equations: Callable, residual: Callable, scales: np.ndarray, p0: float, tol: float,
-                 max_iter: int, dR_dp: Callable | None = None):
+                 max_iter: int, dR_dp: Callable | None = None, exact_tangents: bool = False):
         self.equations, self.residual, self.tol, self.max_iter = equations, residual, tol, max_iter
-        self._dR_dp = dR_dp
+        self._dR_dp, self.exact_tangents = dR_dp, exact_tangents
         self.N = len(scales)
         self.w = 1.0 / (np.asarray(scales) ** 2 * self.N)
         self.wp = 1.0 / max(abs(p0), 1e-6) ** 2
@@ -105,7 +107,8 @@ class Arc:
                      hint="reduce ds")
         X, p = res.x[:N], float(res.x[N])
         J, Rp = res.jacobian
-        return ArcPoint(X, p, self.tangent(X, p, J, t, None if exact_tangent else last[0], Rp), res.residual,
+        reuse = None if exact_tangent or self.exact_tangents else last[0]
+        return ArcPoint(X, p, self.tangent(X, p, J, t, reuse, Rp), res.residual,
                         res.iterations)
 
 

@@ -65,7 +65,7 @@ class ShootingProblem:
         cyc[list(cyclic)] = True
         self.cyclic = cyc
         self.wrap = np.array([np.concatenate([cyc[i], np.zeros(self.r, bool)]) for i in self.ind])
-        self._cache = (None, None)
+        self._cache = self._samples = (None, None)
 
     # ------------------------------------------------------------------ states
     def state(self, q, qd, i: int = 0) -> np.ndarray:
@@ -162,12 +162,16 @@ class ShootingProblem:
                  atol=self.atol, method=self.method)
         return self._residual_from(X, f.y)
 
-    def evaluate(self, X, omega, params=None, sensitivity: bool = False):
+    def _key(self, X, omega, P):
+        return (X.tobytes(), float(omega), tuple(sorted(P.items())), self.parameter)
+
+    def evaluate(self, X, omega, params=None, sensitivity: bool = False, samples: bool = False):
         """(R (2rN,), J (2rN, 2rN) dense, dR/dp (2rN,) or None, blocks G_i (N, 2r, 2r)) from
-        one batch integration with the variational equations; the latest is cached."""
+        one batch integration with the variational equations; the latest is cached, and
+        with ``samples`` the orbit samples of :meth:`solution` are taken on the way."""
         P = self.system.parameters if params is None else params
         X = np.asarray(X, float)
-        key = (X.tobytes(), float(omega), tuple(sorted(P.items())), self.parameter)
+        key = self._key(X, omega, P)
         if self._cache[0] == key and (self._cache[1][2] is not None or not sensitivity):
             return self._cache[1]
         Y0 = self._starts(X, omega, P)
@@ -175,7 +179,9 @@ class ShootingProblem:
         E = np.array([self._tangent(Y0[i, :n], Y0[i, n:], omega, P, i) for i in range(self.N)])
         f = flow(self.system, omega, Y0, self.taus, self.span, directions=E, params=P, rtol=self.rtol, atol=self.atol,
                  sensitivity=self._start_sensitivity(X, omega, P) if sensitivity else None, parameter=self.parameter,
-                 method=self.method)
+                 method=self.method, t_eval=self._sample_phases() if samples else None)
+        if samples:
+            self._samples = (key, f.samples)
         R = self._residual_from(X, f.y)
         k = 2 * self.r
         blocks = np.array([self._select((i + 1) % self.N, f.columns[i]) for i in range(self.N)])
@@ -217,16 +223,22 @@ class ShootingProblem:
         mu = np.linalg.eigvals(self.monodromy(X, omega, params))
         return FloquetExponents.from_multipliers(mu, float(omega), "shooting", self.nu)
 
+    def _sample_phases(self) -> np.ndarray:
+        per = self.p // self.N
+        return np.arange(per) * self.span / per
+
     def solution(self, X, omega, params, residual, iterations, stability, harmonics=None) -> PeriodicSolution:
         """Sample the converged orbit at p points and return its spectra (H = (p-1)//2 or
         harmonics); cyclic coordinates are shifted by a multiple of 2 pi to a mean in (-pi, pi]."""
         P = self.system.parameters if params is None else params
         sysm, n = self.system, self.system.n
         X = np.asarray(X, float)
-        per = self.p // self.N
-        f = flow(sysm, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=self.rtol,
-                 atol=self.atol, method=self.method, t_eval=np.arange(per) * self.span / per)
-        Y = np.swapaxes(f.samples, 0, 1).reshape(self.p, 2 * n)  # segment by segment: the equispaced grid
+        if self._samples[0] == self._key(X, omega, P):
+            samples = self._samples[1]
+        else:
+            samples = flow(sysm, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=self.rtol,
+                           atol=self.atol, method=self.method, t_eval=self._sample_phases()).samples
+        Y = np.swapaxes(samples, 0, 1).reshape(self.p, 2 * n)  # segment by segment: the equispaced grid
         t = np.arange(self.p) * (2 * np.pi * self.nu / omega) / self.p
         c = self.cyclic  # a 2 pi-shifted orbit is the same orbit: mean of a cyclic coordinate in (-pi, pi]
         Y[:, :n][:, c] -= 2 * np.pi * np.round(Y[:, :n][:, c].mean(axis=0) / (2 * np.pi))

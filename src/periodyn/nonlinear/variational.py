@@ -27,61 +27,106 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .integrate import accelerations, baumgarte_rate, saddle_solve, solve
+from .integrate import baumgarte_rate, solve
 
-__all__ = ["Flow", "acceleration_jacobians", "flow"]
+__all__ = ["Derivatives", "Flow", "acceleration_jacobians", "flow"]
 
 _FD_REL = 1e-5
+_SENS_ATOL = 1e-6  # absolute error allowed in the parameter sensitivity (continuation borders only)
 
 
-def _rate_derivatives(system, q, qd, t, omega, P):
-    """Central differences of (Phi_t, gamma) with respect to (q, q'): each (p, m, 2n)."""
-    p, n = q.shape
-    h = _FD_REL * np.maximum(1.0, np.abs(np.concatenate([q, qd], axis=1)))  # (p, 2n)
-    E = np.zeros((p, 2, 2 * n, 2 * n))
-    idx = np.arange(2 * n)
-    E[:, 0, idx, idx] = h
-    E[:, 1, idx, idx] = -h
-    Y = np.concatenate([q, qd], axis=1)[:, None, None, :] + E  # (p, 2, 2n, 2n)
-    Y = Y.reshape(-1, 2 * n)
-    phit, gam = system.constraint_rates(Y[:, :n], Y[:, n:], np.repeat(t, 4 * n), omega, P)
-    phit, gam = (np.asarray(x).reshape(p, 2, 2 * n, -1) for x in (phit, gam))
-    den = 2 * h[:, None, :]
-    return (np.swapaxes(phit[:, 0] - phit[:, 1], 1, 2) / den, np.swapaxes(gam[:, 0] - gam[:, 1], 1, 2) / den)
+class Derivatives:
+    """Accelerations and their Jacobians at driving speed omega (rad/s), parameters P and
+    Baumgarte rate a (1/s), for batches of states; work that does not depend on the state
+    (a constant mass matrix, its inverse, the difference patterns) is done once here."""
+
+    def __init__(self, system, omega, P, a):
+        self.system, self.omega, self.P, self.a = system, float(omega), P, float(a)
+        n, m = system.n, system.m
+        self.n, self.m = n, m
+        self.M0 = None if system.mass_jacobian is not None else np.array(system.mass(system.q0[None])[0], float)
+        if self.M0 is not None and m == 0:
+            self.Minv = np.linalg.inv(self.M0)
+        self.signs = np.concatenate([np.eye(2 * n), -np.eye(2 * n)])  # (4n, 2n) central-difference pattern
+
+    def _saddle_inverse(self, q, Pq):
+        """Inverse of [[M, Pq^T], [Pq, 0]] (p, n+m, n+m)."""
+        n, p = self.n, q.shape[0]
+        A = np.zeros((p, n + self.m, n + self.m))
+        A[:, :n, :n] = self.M0 if self.M0 is not None else self.system.mass(q)
+        A[:, :n, n:] = np.swapaxes(Pq, 1, 2)
+        A[:, n:, :n] = Pq
+        return np.linalg.inv(A)
+
+    def _stage1(self, q, qd, t, w, P):
+        """(q'', lambda, Pq, inverse saddle matrix) at speed w, parameters P."""
+        sysm, a, n = self.system, self.a, self.n
+        f = sysm.force(q, qd, t, w, P)
+        Pq = sysm.constraint_jacobian(q, t, w, P)
+        phi = sysm.constraint(q, t, w, P)
+        phit, gam = sysm.constraint_rates(q, qd, t, w, P)
+        rhs_c = gam - 2 * a * (np.einsum("pkn,pn->pk", Pq, qd) + phit) - a * a * phi
+        Ai = self._saddle_inverse(q, Pq)
+        x = np.einsum("pij,pj->pi", Ai, np.concatenate([f, rhs_c], axis=1))
+        return x[:, :n], x[:, n:], Pq, Ai
+
+    def accelerations(self, q, qd, t, w=None, P=None) -> np.ndarray:
+        """q'' (p, n) at states q, qd (p, n), times t (p,) s (speed w, parameters P:
+        default the evaluator's)."""
+        w = self.omega if w is None else w
+        P = self.P if P is None else P
+        if self.m == 0:
+            f = self.system.force(q, qd, t, w, P)
+            if self.M0 is not None:
+                return f @ self.Minv.T
+            return np.linalg.solve(self.system.mass(q), f[..., None])[..., 0]
+        return self._stage1(q, qd, t, w, P)[0]
+
+    def _rate_derivatives(self, q, qd, t):
+        """Central differences of (Phi_t, gamma) with respect to (q, q'): each (p, m, 2n)."""
+        p, n = q.shape
+        y = np.concatenate([q, qd], axis=1)
+        h = _FD_REL * np.maximum(1.0, np.abs(y))  # (p, 2n)
+        Y = (y[:, None, :] + self.signs[None] * h[:, None, :]).reshape(-1, 2 * n)
+        phit, gam = self.system.constraint_rates(Y[:, :n], Y[:, n:], np.repeat(t, 4 * n), self.omega, self.P)
+        out = []
+        for x in (phit, gam):
+            x = np.asarray(x).reshape(p, 2, 2 * n, -1)
+            out.append(np.swapaxes(x[:, 0] - x[:, 1], 1, 2) / (2 * h[:, None, :]))
+        return out
+
+    def jacobians(self, q, qd, t):
+        """q'' (p, n), dq''/dq and dq''/dq' (p, n, n) at states q, qd (p, n), times t (p,)."""
+        sysm, w, P, a, n, m = self.system, self.omega, self.P, self.a, self.n, self.m
+        p = q.shape[0]
+        Kq, Kv = sysm.force_jacobians(q, qd, t, w, P)
+        if m == 0:
+            qdd = self.accelerations(q, qd, t)
+            if sysm.mass_jacobian is not None:
+                Kq = Kq - sysm.mass_jacobian(q, qdd)
+                D = np.linalg.solve(sysm.mass(q), np.concatenate([Kq, Kv], axis=2))
+                return qdd, D[:, :, :n], D[:, :, n:]
+            return qdd, self.Minv @ Kq, self.Minv @ Kv
+        qdd, lam, Pq, Ai = self._stage1(q, qd, t, w, P)
+        if sysm.mass_jacobian is not None:
+            Kq = Kq - sysm.mass_jacobian(q, qdd)
+        Kq = Kq - sysm.constraint_hessian(q, lam, t, w, P)
+        unit = np.tile(np.eye(m), (p, 1))
+        H = np.asarray(sysm.constraint_hessian(np.repeat(q, m, axis=0), unit, np.repeat(t, m), w, P))
+        H = H.reshape(p, m, n, n)  # Phi_k,qq
+        G = np.einsum("pkij,pjs->pkis", H, np.stack([qdd, qd], axis=2))  # (Phi_q x)_q for x = q'', q'
+        dphit, dgam = self._rate_derivatives(q, qd, t)
+        c_q = dgam[..., :n] - 2 * a * (G[..., 1] + dphit[..., :n]) - a * a * Pq - G[..., 0]
+        c_v = dgam[..., n:] - 2 * a * (Pq + dphit[..., n:])
+        B = np.concatenate([np.concatenate([Kq, Kv], axis=2), np.concatenate([c_q, c_v], axis=2)], axis=1)
+        D = (Ai @ B)[:, :n]
+        return qdd, D[:, :, :n], D[:, :, n:]
 
 
 def acceleration_jacobians(system, q, qd, t, omega, P, a):
-    """q'' (p, n), lambda (p, m), dq''/dq and dq''/dq' (p, n, n) at states q, qd (p, n),
-    times t (p,) s; a: Baumgarte rate (1/s)."""
-    p, n = q.shape
-    m = system.m
-    M = np.asarray(system.mass(q))
-    f = system.force(q, qd, t, omega, P)
-    Kq, Kv = system.force_jacobians(q, qd, t, omega, P)
-    if m == 0:
-        qdd = np.linalg.solve(M, f[..., None])[..., 0]
-        if system.mass_jacobian is not None:
-            Kq = Kq - system.mass_jacobian(q, qdd)
-        D = np.linalg.solve(M, np.concatenate([Kq, Kv], axis=2))
-        return qdd, np.zeros((p, 0)), D[:, :, :n], D[:, :, n:]
-    Pq = system.constraint_jacobian(q, t, omega, P)
-    phi = system.constraint(q, t, omega, P)
-    phit, gam = system.constraint_rates(q, qd, t, omega, P)
-    rhs_c = gam - 2 * a * (np.einsum("pkn,pn->pk", Pq, qd) + phit) - a * a * phi
-    qdd, lam = (x[..., 0] for x in saddle_solve(M, Pq, f[..., None], rhs_c[..., None]))
-    if system.mass_jacobian is not None:
-        Kq = Kq - system.mass_jacobian(q, qdd)
-    Kq = Kq - system.constraint_hessian(q, lam, t, omega, P)
-    unit = np.tile(np.eye(m), (p, 1))
-    H = np.asarray(system.constraint_hessian(np.repeat(q, m, axis=0), unit, np.repeat(t, m), omega, P))
-    H = H.reshape(p, m, n, n)  # Phi_k,qq
-    G_a = np.einsum("pkij,pj->pki", H, qdd)  # (Phi_q q'')_q
-    G_v = np.einsum("pkij,pj->pki", H, qd)  # (Phi_q q')_q
-    dphit, dgam = _rate_derivatives(system, q, qd, t, omega, P)
-    c_q = dgam[..., :n] - 2 * a * (G_v + dphit[..., :n]) - a * a * Pq - G_a
-    c_v = dgam[..., n:] - 2 * a * (Pq + dphit[..., n:])
-    D = saddle_solve(M, Pq, np.concatenate([Kq, Kv], axis=2), np.concatenate([c_q, c_v], axis=2))[0]
-    return qdd, lam, D[:, :, :n], D[:, :, n:]
+    """q'' (p, n), dq''/dq and dq''/dq' (p, n, n) at states q, qd (p, n), times t (p,) s;
+    a: Baumgarte rate (1/s)."""
+    return Derivatives(system, omega, P, a).jacobians(q, qd, t)
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,49 +176,52 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         raise KeyError(parameter)
     hp = _FD_REL * max(abs(omega if parameter is None else P[parameter]), 1e-3)
 
+    bN, kc = b * N, k + sens  # the sensitivity rides along as the last variational column
+
     def parts(y):
-        Y = y[:b * N].reshape(b, N)
-        Phi = y[b * N:b * N * (1 + k)].reshape(b, N, k)
-        Z = y[b * N * (1 + k):].reshape(b, N) if sens else None
-        return Y, Phi, Z
+        return y[:bN].reshape(b, N), y[bN:].reshape(b, N, kc)
 
-    def accel(Y, sigma, w, PP):
-        return accelerations(system, Y[:, :n], Y[:, n:], (tau0 + sigma) / w, w, PP, a)[0]
-
-    def derivatives(sigma, y):
-        Y, Phi, Z = parts(y)
-        qdd, _, Aq, Av = acceleration_jacobians(system, Y[:, :n], Y[:, n:], (tau0 + sigma) / omega, omega, P, a)
-        return Y, Phi, Z, qdd, Aq, Av
+    ev = Derivatives(system, omega, P, a)
+    w, PP = _parameter(system, omega, P, parameter, 1.0, hp)
 
     def rhs(sigma, y):
-        if not k and not sens:
-            Y = y.reshape(b, N)
-            return np.concatenate([Y[:, n:], accel(Y, sigma, omega, P)], axis=1).ravel() / omega
-        Y, Phi, Z, qdd, Aq, Av = derivatives(sigma, y)
-        out = [np.concatenate([Y[:, n:], qdd], axis=1)]
-        if k:
-            out.append(np.concatenate([Phi[:, n:], Aq @ Phi[:, :n] + Av @ Phi[:, n:]], axis=1))
-        if sens:
-            Gp = [np.concatenate([Y[:, n:], accel(Y, sigma, w, PP)], axis=1) / w
-                  for w, PP in (_parameter(system, omega, P, parameter, s, hp) for s in (1.0, -1.0))]
-            dz = (np.einsum("pij,pj->pi", Aq, Z[:, :n]) + np.einsum("pij,pj->pi", Av, Z[:, n:]))
-            out.append(np.concatenate([Z[:, n:], dz], axis=1) + omega * (Gp[0] - Gp[1]) / (2 * hp))
-        return np.concatenate([o.ravel() for o in out]) / omega
+        t = (tau0 + sigma) / omega
+        (Y, C), out = parts(y), np.empty_like(y)
+        O, OC = parts(out)
+        q, v = Y[:, :n], Y[:, n:]
+        O[:, :n] = v
+        if not kc:
+            O[:, n:] = ev.accelerations(q, v, t)
+            return out / omega
+        qdd, Aq, Av = ev.jacobians(q, v, t)
+        O[:, n:] = qdd
+        OC[:, :n] = C[:, n:]
+        OC[:, n:] = Aq @ C[:, :n] + Av @ C[:, n:]
+        if sens:  # forward difference of G = (q', q'')/omega in p (only the continuation border uses it)
+            OC[:, :n, -1] += v * ((omega / w - 1.0) / hp)
+            OC[:, n:, -1] += (ev.accelerations(q, v, (tau0 + sigma) / w, w, PP) * (omega / w) - qdd) / hp
+        return out / omega
+
+    def derivatives(sigma, y):
+        Y = y[:bN].reshape(b, N)
+        return ev.jacobians(Y[:, :n], Y[:, n:], (tau0 + sigma) / omega)
 
     def jac(sigma, y):
-        _, _, _, _, Aq, Av = derivatives(sigma, y)
+        _, Aq, Av = derivatives(sigma, y)
         blocks = [np.block([[np.zeros((n, n)), np.eye(n)], [Aq[i], Av[i]]]) / omega for i in range(b)]
-        return sp.block_diag(blocks + [np.kron(B, np.eye(k)) for B in blocks] * bool(k) + blocks * sens, "csc")
+        return sp.block_diag(blocks + [np.kron(B, np.eye(kc)) for B in blocks] * bool(kc), "csc")
 
-    start = [y0.ravel()]
+    C0 = np.zeros((b, N, kc))
     if k:
-        start.append(np.asarray(directions, float).ravel())
+        C0[:, :, :k] = directions
+    tol = np.full((1 + kc) * bN, float(atol))
     if sens:
-        start.append(np.asarray(sensitivity, float).ravel())
+        C0[:, :, -1] = sensitivity
+        tol[bN:].reshape(bN, kc)[:, -1] = _SENS_ATOL  # loose: the sensitivity must not shorten the steps
     implicit = method in ("Radau", "BDF", "LSODA")
     t_all = None if t_eval is None else np.append(np.asarray(t_eval, float), float(span))
-    sol = solve(rhs, (0.0, float(span)), np.concatenate(start), t_eval=t_all, rtol=rtol, atol=atol, method=method,
-                jac=jac if implicit else None)
-    Y, Phi, Z = parts(sol.y[:, -1])
-    samples = None if t_eval is None else sol.y[:b * N, :-1].T.reshape(-1, b, N)
-    return Flow(Y, Phi if k else None, Z if sens else None, samples, int(sol.nfev))
+    sol = solve(rhs, (0.0, float(span)), np.concatenate([y0.ravel(), C0.ravel()]), t_eval=t_all, rtol=rtol, atol=tol,
+                method=method, jac=jac if implicit else None)
+    Y, C = parts(sol.y[:, -1])
+    samples = None if t_eval is None else sol.y[:bN, :-1].T.reshape(-1, b, N)
+    return Flow(Y, C[:, :, :k] if k else None, C[:, :, -1] if sens else None, samples, int(sol.nfev))
