@@ -348,11 +348,11 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
         try:
             res = prob.newton(prob.unknowns(Q, QD), float(omega), P, tol, max_iter)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
-            tried.append(f"{what}: residual {getattr(exc, 'residual', float('nan')):.3g} after "
-                         f"{getattr(exc, 'iterations', 0)} iterations")
+            last = (getattr(exc, "residual", float("nan")), getattr(exc, "iterations", 0))
+            tried.append(f"{what}: residual {last[0]:.3g} after {last[1]} iterations")
             continue
         return prob.solution(res.x, omega, P, res.residual, res.iterations, prob.exponents(res.x, omega, P))
     raise ConvergenceError(f"shooting at omega={omega:.6g} rad/s found no periodic solution; tried: " + "; ".join(tried)
                            + ". Give initial= (an IHB solution or a nearby shooting solution), more settle_periods=, "
                            "segments= > 1 for a long or unstable period, or continue from a nearby omega with "
-                           "continuation(..., method='shooting')", float("nan"), max_iter)
+                           "continuation(..., method='shooting')", *last)
