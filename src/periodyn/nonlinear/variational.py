@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..kernels.saddle import saddle_accelerations, saddle_jacobians
 from .integrate import baumgarte_rate, solve
 
 __all__ = ["Derivatives", "Flow", "acceleration_jacobians", "flow"]
@@ -49,25 +50,17 @@ class Derivatives:
             self.Minv = np.linalg.inv(self.M0)
         self.signs = np.concatenate([np.eye(2 * n), -np.eye(2 * n)])  # (4n, 2n) central-difference pattern
 
-    def _saddle_inverse(self, q, Pq):
-        """Inverse of [[M, Pq^T], [Pq, 0]] (p, n+m, n+m)."""
-        n, p = self.n, q.shape[0]
-        A = np.zeros((p, n + self.m, n + self.m))
-        A[:, :n, :n] = self.M0 if self.M0 is not None else self.system.mass(q)
-        A[:, :n, n:] = np.swapaxes(Pq, 1, 2)
-        A[:, n:, :n] = Pq
-        return np.linalg.inv(A)
+    def _mass(self, q):
+        return self.M0[None] if self.M0 is not None else np.ascontiguousarray(self.system.mass(q), float)
 
     def _stage1(self, q, qd, t, w, P):
         """(q'', lambda, Pq, inverse saddle matrix) at speed w, parameters P."""
-        sysm, a, n = self.system, self.a, self.n
+        sysm, n, p = self.system, self.n, q.shape[0]
         f = sysm.force(q, qd, t, w, P)
         Pq = sysm.constraint_jacobian(q, t, w, P)
-        phi = sysm.constraint(q, t, w, P)
         phit, gam = sysm.constraint_rates(q, qd, t, w, P)
-        rhs_c = gam - 2 * a * (np.einsum("pkn,pn->pk", Pq, qd) + phit) - a * a * phi
-        Ai = self._saddle_inverse(q, Pq)
-        x = np.einsum("pij,pj->pi", Ai, np.concatenate([f, rhs_c], axis=1))
+        x, Ai = np.empty((p, n + self.m)), np.empty((p, n + self.m, n + self.m))
+        saddle_accelerations(self._mass(q), f, Pq, sysm.constraint(q, t, w, P), phit, gam, qd, self.a, x, Ai)
         return x[:, :n], x[:, n:], Pq, Ai
 
     def accelerations(self, q, qd, t, w=None, P=None) -> np.ndarray:
@@ -92,7 +85,7 @@ class Derivatives:
         out = []
         for x in (phit, gam):
             x = np.asarray(x).reshape(p, 2, 2 * n, -1)
-            out.append(np.swapaxes(x[:, 0] - x[:, 1], 1, 2) / (2 * h[:, None, :]))
+            out.append(np.ascontiguousarray(np.swapaxes(x[:, 0] - x[:, 1], 1, 2) / (2 * h[:, None, :])))
         return out
 
     def jacobians(self, q, qd, t):
@@ -110,17 +103,14 @@ class Derivatives:
         qdd, lam, Pq, Ai = self._stage1(q, qd, t, w, P)
         if sysm.mass_jacobian is not None:
             Kq = Kq - sysm.mass_jacobian(q, qdd)
-        Kq = Kq - sysm.constraint_hessian(q, lam, t, w, P)
-        unit = np.tile(np.eye(m), (p, 1))
-        H = np.asarray(sysm.constraint_hessian(np.repeat(q, m, axis=0), unit, np.repeat(t, m), w, P))
-        H = H.reshape(p, m, n, n)  # Phi_k,qq
-        G = np.einsum("pkij,pjs->pkis", H, np.stack([qdd, qd], axis=2))  # (Phi_q x)_q for x = q'', q'
+        weights = np.concatenate([lam[:, None, :], np.broadcast_to(np.eye(m), (p, m, m))], axis=1)  # lam, unit rows
+        H = np.asarray(sysm.constraint_hessian(np.repeat(q, m + 1, axis=0), weights.reshape(-1, m),
+                                               np.repeat(t, m + 1), w, P)).reshape(p, m + 1, n, n)
         dphit, dgam = self._rate_derivatives(q, qd, t)
-        c_q = dgam[..., :n] - 2 * a * (G[..., 1] + dphit[..., :n]) - a * a * Pq - G[..., 0]
-        c_v = dgam[..., n:] - 2 * a * (Pq + dphit[..., n:])
-        B = np.concatenate([np.concatenate([Kq, Kv], axis=2), np.concatenate([c_q, c_v], axis=2)], axis=1)
-        D = (Ai @ B)[:, :n]
-        return qdd, D[:, :, :n], D[:, :, n:]
+        Aq, Av = np.empty((p, n, n)), np.empty((p, n, n))
+        saddle_jacobians(Ai, np.ascontiguousarray(Kq - H[:, 0]), np.ascontiguousarray(Kv), np.ascontiguousarray(H[:, 1:]),
+                         qdd, qd, Pq, dphit, dgam, self.a, Aq, Av)
+        return qdd, Aq, Av
 
 
 def acceleration_jacobians(system, q, qd, t, omega, P, a):
