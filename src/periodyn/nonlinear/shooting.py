@@ -264,11 +264,14 @@ def start_state(system, guess, omega, params=None, t: float = 0.0):
 
 
 def settle(system, omega, q, qd, *, periods: int, subharmonic: int = 1, params=None, tol: float = 1e-4,
-           rtol: float = 1e-7, atol: float = 1e-9):
+           rtol: float = 1e-7, atol: float = 1e-9, cyclic=()):
     """Integrate at most ``periods`` periods from (q, qd) with the explicit integrator at a
     loose tolerance, in chunks of 10, until the state changes by at most ``tol`` per period
-    (max-norm, m, rad, m/s, rad/s). Returns (q, qd, periods integrated, last change)."""
+    (max-norm, m, rad, m/s, rad/s; coordinates with indices in ``cyclic`` modulo 2 pi).
+    Returns (q, qd, periods integrated, last change)."""
     n, done, change = system.n, 0, np.inf
+    turn = np.zeros(2 * n)
+    turn[list(cyclic)] = 2 * np.pi
     y = np.concatenate([q, qd])
     T = 2 * np.pi * subharmonic
     while done < periods and change > tol:
@@ -276,7 +279,8 @@ def settle(system, omega, q, qd, *, periods: int, subharmonic: int = 1, params=N
         f = flow(system, omega, y[None], 0.0, k * T, params=params, rtol=rtol, atol=atol,
                  t_eval=np.arange(1, k) * T)
         ends = np.concatenate([[y], f.samples[:, 0], f.y])
-        change = float(np.max(np.abs(np.diff(ends, axis=0)[-1])))
+        d = np.diff(ends, axis=0)[-1]
+        change = float(np.max(np.abs(d - turn * np.round(d / np.where(turn > 0, turn, 1.0)))))
         y, done = f.y[0], done + k
     q, qd = consistent_state(system, y[:n], y[n:], 0.0, omega, params)
     return q, qd, done, change
@@ -339,7 +343,8 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     plans = [settle_periods] if settle_periods else [0, 400]
     for periods in plans:
         if periods:
-            q, qd, done, change = settle(system, omega, q, qd, periods=periods, subharmonic=subharmonic, params=P)
+            q, qd, done, change = settle(system, omega, q, qd, periods=periods, subharmonic=subharmonic, params=P,
+                                         cyclic=cyc)
             what = f"Newton after settling {done} periods (change per period {change:.3g})"
         else:
             what = "Newton from the start state"
