@@ -12,6 +12,9 @@ the rod pendulum (m = l = 1, eps = 0.1, f = 1) over 1-3 rad/s, whose plain ODE i
 minimal-coordinate equation (m l^2 / 3) phi'' = -m g l/2 cos(phi) - eps phi' + f cos(w t)
 while periodyn integrates the index-3 DAE in (x, y, phi) with its two constraints.
 
+Last: cold starts of the Duffing oscillator at omega = 1.02 (from rest; after 200 settling
+periods), time and result.
+
 Run: python benchmarks/bench_shooting_core.py [--quick]
 """
 
@@ -100,12 +103,27 @@ def compare(name, system, omega_range, plain, coordinate, ds_max):
           f"max |d mu| {diff:.1e}  folds {sorted(round(p.omega, 4) for p in br.points('fold'))}")
 
 
+def cold_starts():
+    """Duffing at omega = 1.02 from rest: default start, and 200 settling periods."""
+    from periodyn.nonlinear import shooting
+    s = duffing(0.05, 0.5, 0.5)
+    for label, kw in (("from rest", {}), ("settle 200 periods", {"settle_periods": 200})):
+        t0 = time.perf_counter()
+        try:
+            sol = shooting(s, 1.02, **kw)
+            out = f"amplitude {sol.amplitude()[0]:.6f}, residual {sol.residual:.1e}"
+        except Exception as exc:  # noqa: BLE001 - the benchmark reports any failure
+            out = f"failed: {type(exc).__name__}: {str(exc)[:90]}"
+        print(f"cold start duffing w=1.02 {label:20s} {time.perf_counter() - t0:7.2f} s  {out}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="shorter omega ranges")
     args = ap.parse_args()
     compare("duffing", duffing(0.05, 0.5, 0.5), (0.5, 1.2 if args.quick else 2.5), duffing_plain(), 0, 0.2)
     compare("rod pendulum", rod_pendulum(1.0, 1.0, 0.1, 1.0), (1.0, 1.5 if args.quick else 3.0), rod_plain(), 2, 0.2)
+    cold_starts()
 
 
 if __name__ == "__main__":
