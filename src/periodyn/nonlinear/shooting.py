@@ -323,8 +323,8 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
 
     initial: PeriodicSolution (e.g. from ``ihb``), a full state (q, qd), or None (rest at
     ``system.q0``). settle_periods: periods integrated (loose tolerance, explicit method,
-    stopping early once settled) before Newton; None: Newton from the start first, and
-    when it fails, settle up to 400 periods and try again. segments: N >= 1 (multiple
+    stopping early once settled) before Newton; None: from rest, settle up to 400 periods
+    first; from a given guess, Newton first and, when it fails, settle and try again. segments: N >= 1 (multiple
     shooting for long periods or strongly unstable orbits). cyclic: names or indices of
     angle coordinates compared modulo 2 pi (rotating or 2 pi-shifted orbits). tol:
     residual max-norm of the independent states (m, rad, m/s, rad/s); method: "DOP853"
@@ -340,7 +340,7 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     cyc = cyclic_indices(system, cyclic)
     q, qd = start_state(system, initial, omega, P)
     tried = []
-    plans = [settle_periods] if settle_periods else [0, 400]
+    plans = [settle_periods] if settle_periods else [400] if initial is None else [0, 400]
     for periods in plans:
         if periods:
             q, qd, done, change = settle(system, omega, q, qd, periods=periods, subharmonic=subharmonic, params=P,
