@@ -19,6 +19,8 @@ import numpy as np
 
 __all__ = ["ChordEquations"]
 
+_LOOSE = 1e-8  # integration tolerance of the Jacobian at a predictor
+
 
 class ChordEquations:
     """``equations(X, omega, P) -> (R, J)`` and ``parameter_derivative`` for a Newton
@@ -34,9 +36,16 @@ class ChordEquations:
         name = self.problem.parameter
         return float(omega if name is None else P[name])
 
+    def _rtol(self, rn):
+        """Integration tolerance for a chord step from a residual of rn: its error stays a
+        ten-thousandth of the residual still to remove (inexact Newton), never below the problem's."""
+        return float(np.clip(1e-4 * rn, self.problem.rtol, _LOOSE))
+
     def _exact(self, X, omega, P, converged=False):
-        """Exact R, J and dR/dp; at a (nearly) converged point also the orbit samples."""
-        R, J, Rp, _ = self.problem.evaluate(X, omega, P, sensitivity=True, samples=converged)
+        """R, J and dR/dp; at a (nearly) converged point at the problem's tolerance with the
+        orbit samples, at a predictor at a loose tolerance (J serves the chord steps only)."""
+        R, J, Rp, _ = self.problem.evaluate(X, omega, P, sensitivity=True, samples=converged,
+                                            rtol=None if converged or self._state is None else _LOOSE)
         self._state = (X.copy(), self._p(omega, P), R, J.copy(), Rp, 0)
         self._next_exact = False
         self.exact += 1
@@ -49,10 +58,10 @@ class ChordEquations:
             return self._exact(X, omega, P)
         if self._next_exact:  # the reused-Jacobian rate predicts convergence here
             return self._exact(X, omega, P, converged=True)
-        R = self.problem.residual(X, omega, P)
-        rn = float(np.max(np.abs(R)))
         X0, p0, R0, J, Rp, steps = st
         r0 = float(np.max(np.abs(R0)))
+        R = self.problem.residual(X, omega, P, rtol=self._rtol(r0))
+        rn = float(np.max(np.abs(R)))
         if rn <= self.tol:
             return self._exact(X, omega, P, converged=True)
         if (steps and rn > 0.5 * r0) or not np.isfinite(rn):

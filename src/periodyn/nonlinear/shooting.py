@@ -154,30 +154,34 @@ class ShootingProblem:
         n = self.system.n
         return Y[np.concatenate([self.ind[j], n + self.ind[j]])]
 
-    def residual(self, X, omega, params=None) -> np.ndarray:
-        """R(X) (2rN,) in m, rad, m/s, rad/s."""
+    def residual(self, X, omega, params=None, rtol: float | None = None) -> np.ndarray:
+        """R(X) (2rN,) in m, rad, m/s, rad/s (integrated at ``rtol``, default the problem's)."""
         P = self.system.parameters if params is None else params
         X = np.asarray(X, float)
-        f = flow(self.system, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=self.rtol,
-                 atol=self.atol, method=self.method)
+        rtol, atol = (self.rtol, self.atol) if rtol is None else (rtol, 0.1 * rtol)
+        f = flow(self.system, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=rtol, atol=atol,
+                 method=self.method)
         return self._residual_from(X, f.y)
 
     def _key(self, X, omega, P):
         return (X.tobytes(), float(omega), tuple(sorted(P.items())), self.parameter)
 
-    def evaluate(self, X, omega, params=None, sensitivity: bool = False, samples: bool = False):
+    def evaluate(self, X, omega, params=None, sensitivity: bool = False, samples: bool = False,
+                 rtol: float | None = None):
         """(R (2rN,), J (2rN, 2rN) dense, dR/dp (2rN,) or None, blocks G_i (N, 2r, 2r)) from
-        one batch integration with the variational equations; the latest is cached, and
-        with ``samples`` the orbit samples of :meth:`solution` are taken on the way."""
+        one batch integration with the variational equations; the latest at the problem's
+        tolerance is cached, and with ``samples`` the orbit samples of :meth:`solution`
+        are taken on the way. A looser ``rtol`` gives a cheaper approximate J (chord steps)."""
         P = self.system.parameters if params is None else params
         X = np.asarray(X, float)
         key = self._key(X, omega, P)
-        if self._cache[0] == key and (self._cache[1][2] is not None or not sensitivity):
+        if rtol is None and self._cache[0] == key and (self._cache[1][2] is not None or not sensitivity):
             return self._cache[1]
+        rtol, atol = (self.rtol, self.atol) if rtol is None else (rtol, 0.1 * rtol)
         Y0 = self._starts(X, omega, P)
         n = self.system.n
         E = np.array([self._tangent(Y0[i, :n], Y0[i, n:], omega, P, i) for i in range(self.N)])
-        f = flow(self.system, omega, Y0, self.taus, self.span, directions=E, params=P, rtol=self.rtol, atol=self.atol,
+        f = flow(self.system, omega, Y0, self.taus, self.span, directions=E, params=P, rtol=rtol, atol=atol,
                  sensitivity=self._start_sensitivity(X, omega, P) if sensitivity else None, parameter=self.parameter,
                  method=self.method, t_eval=self._sample_phases() if samples else None)
         if samples:
@@ -192,7 +196,8 @@ class ShootingProblem:
         J = J.reshape(self.size, self.size)
         dRdp = None if f.sensitivity is None else np.concatenate(
             [self._select((i + 1) % self.N, f.sensitivity[i]) for i in range(self.N)])
-        self._cache = (key, (R, J, dRdp, blocks))
+        if rtol == self.rtol:
+            self._cache = (key, (R, J, dRdp, blocks))
         return R, J, dRdp, blocks
 
     def equations(self, X, omega, params=None, sensitivity: bool = False):
