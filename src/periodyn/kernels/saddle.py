@@ -40,14 +40,15 @@ def saddle_accelerations(M, f, Pq, phi, phit, gam, qd, a, x_out, Ainv_out):
 
 
 @njit(cache=True)
-def saddle_jacobians(Ainv, Kq, Kv, H, qdd, qd, Pq, dphit, dgam, a, Aq_out, Av_out):
+def saddle_jacobians(Ainv, Kq, Kv, H, qdd, qd, Pq, dphit, dgam, a, D_out):
     """dq''/dq and dq''/dq' per state from A [dq''; dlam] = [Kq dq + Kv dq'; c_q dq + c_v dq']
     with c_q = dgamma/dq - 2 a ((Pq q')_q + dPhi_t/dq) - a^2 Pq - (Pq q'')_q and
     c_v = dgamma/dq' - 2 a (Pq + dPhi_t/dq').
 
     Ainv (p, n+m, n+m); Kq, Kv (p, n, n): force Jacobians less (M q'')_q and
     sum lam_k Phi_k,qq; H (p, m, n, n): Phi_k,qq; qdd, qd (p, n); Pq (p, m, n); dphit,
-    dgam (p, m, 2n): derivatives of Phi_t and gamma by (q, q'). Fills Aq_out, Av_out (p, n, n)."""
+    dgam (p, m, 2n): derivatives of Phi_t and gamma by (q, q'). Fills D_out (p, n, 2n) =
+    [dq''/dq, dq''/dq']."""
     p, n = qdd.shape
     m = Pq.shape[1]
     B = np.empty((n + m, 2 * n))
@@ -63,6 +64,4 @@ def saddle_jacobians(Ainv, Kq, Kv, H, qdd, qd, Pq, dphit, dgam, a, Aq_out, Av_ou
                     gv += H[k, i, j, l] * qd[k, l]
                 B[n + i, j] = (dgam[k, i, j] - 2.0 * a * (gv + dphit[k, i, j]) - a * a * Pq[k, i, j] - ga)
                 B[n + i, n + j] = dgam[k, i, n + j] - 2.0 * a * (Pq[k, i, j] + dphit[k, i, n + j])
-        D = Ainv[k, :n] @ B
-        Aq_out[k] = D[:, :n]
-        Av_out[k] = D[:, n:]
+        D_out[k] = Ainv[k, :n] @ B

@@ -89,7 +89,7 @@ class Derivatives:
         return out
 
     def jacobians(self, q, qd, t):
-        """q'' (p, n), dq''/dq and dq''/dq' (p, n, n) at states q, qd (p, n), times t (p,)."""
+        """q'' (p, n) and D = [dq''/dq, dq''/dq'] (p, n, 2n) at states q, qd (p, n), times t (p,)."""
         sysm, w, P, a, n, m = self.system, self.omega, self.P, self.a, self.n, self.m
         p = q.shape[0]
         Kq, Kv = sysm.force_jacobians(q, qd, t, w, P)
@@ -97,9 +97,8 @@ class Derivatives:
             qdd = self.accelerations(q, qd, t)
             if sysm.mass_jacobian is not None:
                 Kq = Kq - sysm.mass_jacobian(q, qdd)
-                D = np.linalg.solve(sysm.mass(q), np.concatenate([Kq, Kv], axis=2))
-                return qdd, D[:, :, :n], D[:, :, n:]
-            return qdd, self.Minv @ Kq, self.Minv @ Kv
+                return qdd, np.linalg.solve(sysm.mass(q), np.concatenate([Kq, Kv], axis=2))
+            return qdd, self.Minv @ np.concatenate([Kq, Kv], axis=2)
         qdd, lam, Pq, Ai = self._stage1(q, qd, t, w, P)
         if sysm.mass_jacobian is not None:
             Kq = Kq - sysm.mass_jacobian(q, qdd)
@@ -107,16 +106,17 @@ class Derivatives:
         H = np.asarray(sysm.constraint_hessian(np.repeat(q, m + 1, axis=0), weights.reshape(-1, m),
                                                np.repeat(t, m + 1), w, P)).reshape(p, m + 1, n, n)
         dphit, dgam = self._rate_derivatives(q, qd, t)
-        Aq, Av = np.empty((p, n, n)), np.empty((p, n, n))
+        D = np.empty((p, n, 2 * n))
         saddle_jacobians(Ai, np.ascontiguousarray(Kq - H[:, 0]), np.ascontiguousarray(Kv), np.ascontiguousarray(H[:, 1:]),
-                         qdd, qd, Pq, dphit, dgam, self.a, Aq, Av)
-        return qdd, Aq, Av
+                         qdd, qd, Pq, dphit, dgam, self.a, D)
+        return qdd, D
 
 
 def acceleration_jacobians(system, q, qd, t, omega, P, a):
     """q'' (p, n), dq''/dq and dq''/dq' (p, n, n) at states q, qd (p, n), times t (p,) s;
     a: Baumgarte rate (1/s)."""
-    return Derivatives(system, omega, P, a).jacobians(q, qd, t)
+    qdd, D = Derivatives(system, omega, P, a).jacobians(q, qd, t)
+    return qdd, D[:, :, :system.n], D[:, :, system.n:]
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,10 +186,10 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         if not kc:
             O[:, n:] = ev.accelerations(q, v, t)
             return out / omega
-        qdd, Aq, Av = ev.jacobians(q, v, t)
+        qdd, D = ev.jacobians(q, v, t)
         O[:, n:] = qdd
         OC[:, :n] = C[:, n:]
-        OC[:, n:] = Aq @ C[:, :n] + Av @ C[:, n:]
+        OC[:, n:] = D @ C
         if sens:  # forward difference of G = (q', q'')/omega in p (only the continuation border uses it)
             OC[:, :n, -1] += v * ((omega / w - 1.0) / hp)
             OC[:, n:, -1] += (ev.accelerations(q, v, (tau0 + sigma) / w, w, PP) * (omega / w) - qdd) / hp
@@ -200,8 +200,8 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         return ev.jacobians(Y[:, :n], Y[:, n:], (tau0 + sigma) / omega)
 
     def jac(sigma, y):
-        _, Aq, Av = derivatives(sigma, y)
-        blocks = [np.block([[np.zeros((n, n)), np.eye(n)], [Aq[i], Av[i]]]) / omega for i in range(b)]
+        _, D = derivatives(sigma, y)
+        blocks = [np.block([[np.zeros((n, n)), np.eye(n)], [D[i]]]) / omega for i in range(b)]
         return sp.block_diag(blocks + [np.kron(B, np.eye(kc)) for B in blocks] * bool(kc), "csc")
 
     C0 = np.zeros((b, N, kc))
