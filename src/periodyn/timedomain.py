@@ -2,7 +2,8 @@
 integration of ``M(t) q'' + C(t) q' + K(t) q = f(t)``.
 
 Two monodromy integrators:
-* the reference, scipy DOP853 at rtol 1e-11 on the exact callables (systems built with
+* the reference, DOP853 through the one integrator wrapper (``periodyn.nonlinear.integrate.solve``)
+  at rtol 1e-11 on the exact callables (systems built with
   ``RheoLinear.from_functions``) or on the Fourier series of the samples;
 * ``magnus``: the fixed-step 4th-order Magnus integrator with two Gauss points per step,
   ``Phi <- exp(h/2 (A1 + A2) + sqrt(3)/12 h^2 [A2, A1]) Phi``, which treats stiff, heavily
@@ -13,11 +14,11 @@ Two monodromy integrators:
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .errors import ConvergenceError
 from .floquet import FloquetExponents
 from .kernels.floquet import magnus_product
+from .nonlinear.integrate import solve
 from .spectra import synthesize
 from .system import RheoLinear
 
@@ -74,10 +75,7 @@ def monodromy_matrix(system: RheoLinear) -> np.ndarray:
     def rhs(t, y):
         return (A_b(t)[0] @ y.reshape(m2, m2)).reshape(-1)
 
-    sol = solve_ivp(rhs, (0.0, system.period), np.eye(m2).reshape(-1), method="DOP853", rtol=RTOL, atol=ATOL)
-    if not sol.success:
-        raise ConvergenceError(f"monodromy integration failed at omega = {system.omega:.6g} rad/s: {sol.message}")
-    return sol.y[:, -1].reshape(m2, m2)
+    return solve(rhs, (0.0, system.period), np.eye(m2).reshape(-1), rtol=RTOL, atol=ATOL).y[:, -1].reshape(m2, m2)
 
 
 def magnus_steps(samples: int) -> int:
@@ -180,8 +178,4 @@ def integrate(system: RheoLinear, y0, t) -> np.ndarray:
         A, b = A_b(tt)
         return A @ y + b
 
-    sol = solve_ivp(rhs, (0.0, float(t[-1])), np.asarray(y0, dtype=float), method="DOP853", t_eval=t,
-                    rtol=RTOL, atol=ATOL)
-    if not sol.success:
-        raise ConvergenceError(f"time integration failed: {sol.message}")
-    return sol.y.T
+    return solve(rhs, (0.0, float(t[-1])), np.asarray(y0, dtype=float), t_eval=t, rtol=RTOL, atol=ATOL).y.T

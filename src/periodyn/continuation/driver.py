@@ -16,6 +16,7 @@ from ..dae.ihb import IHBProblem, ihb
 from ..dae.linearization import STABILITY_METHODS
 from ..dae.model import DAE
 from ..errors import ConvergenceError, InputError
+from ..nonlinear.chord import ChordEquations
 from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
@@ -84,31 +85,29 @@ class _IHB:
 
 
 class _Shooting:
-    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0, parameter=None):
         self.tol = 1e-9 if opts.tol is None else opts.tol
         self.H = harmonics
         if initial is None:  # start from the IHB orbit at the first parameter value
             initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
                           params=P0)
         q, qd = start_state(system, initial, om0, P0)
-        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples)
+        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples, parameter=parameter)
         self.groups = None
         self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
-        self._last = (None, None)  # (key, Jacobian) of the latest evaluation: the monodromy is free there
+        self.chord = ChordEquations(self.prob, self.tol)
 
-    def equations(self, X, om, P):
-        R, J = self.prob.residual_jacobian(X, om, P)
-        self._last = ((X.tobytes(), om, tuple(sorted(P.items()))), J)
-        return R, J
+    def equations(self, X, om, P):  # reused Jacobians between exact ones (nonlinear.chord)
+        return self.chord.equations(X, om, P)
+
+    def parameter_derivative(self, X, om, P):
+        return self.chord.parameter_derivative(X, om, P)
 
     def residual(self, X, om, P):
         return self.prob.residual(X, om, P)
 
     def exponents(self, X, om, P):
-        key, J = self._last
-        if key != (X.tobytes(), om, tuple(sorted(P.items()))):
-            J = self.prob.residual_jacobian(X, om, P)[1]
-        return self.prob.exponents(J, om)
+        return self.prob.exponents(X, om, P)
 
     def solution(self, X, om, P, rn, it, exps):
         return self.prob.solution(X, om, P, rn, it, exps, self.H)
@@ -148,9 +147,13 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     if method not in ("ihb", "shooting"):
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
-    disc = (_IHB if method == "ihb" else _Shooting)(system, harmonics, opts, initial, *at(p0))
+    if method == "ihb":
+        disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    else:
+        disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
+        dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
-              p0, disc.tol, opts.max_iter)
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))

@@ -48,12 +48,17 @@ class Arc:
 
     equations(X, p) -> (R, J); residual(X, p) -> R; groups: index arrays of the unknown
     groups sharing a scale (None: one group); X0 (N,) the first point, p0 sets the
-    parameter scale; tol: residual max-norm; max_iter: corrector Newton updates.
+    parameter scale; tol: residual max-norm; max_iter: corrector Newton updates;
+    dR_dp(X, p): the discretization's own parameter derivative (default: central
+    difference of residual); exact_tangents: factorize the J at each accepted point for
+    its tangent (for correctors whose updates use approximate Jacobians) instead of
+    reusing the last one.
     """
 
     def __init__(self, equations: Callable, residual: Callable, groups, X0: np.ndarray, p0: float, tol: float,
-                 max_iter: int):
+                 max_iter: int, dR_dp: Callable | None = None, exact_tangents: bool = False):
         self.equations, self.residual, self.tol, self.max_iter = equations, residual, tol, max_iter
+        self._dR_dp, self.exact_tangents = dR_dp, exact_tangents
         self.N = len(X0)
         self.groups = [g for g in (groups or [np.arange(self.N)]) if len(g)]
         ref = max(np.sqrt(np.mean(np.asarray(X0) ** 2)), 1e-12)
@@ -74,6 +79,8 @@ class Arc:
         return grow
 
     def dR_dp(self, X, p) -> np.ndarray:
+        if self._dR_dp is not None:
+            return self._dR_dp(X, p)
         h = _H_REL * max(abs(p), 1e-3)
         return (self.residual(X, p + h) - self.residual(X, p - h)) / (2 * h)
 
@@ -119,7 +126,8 @@ class Arc:
                      hint="reduce ds")
         X, p = res.x[:N], float(res.x[N])
         J, Rp = res.jacobian
-        return ArcPoint(X, p, self.tangent(X, p, J, t, None if exact_tangent else last[0], Rp), res.residual,
+        reuse = None if exact_tangent or self.exact_tangents else last[0]
+        return ArcPoint(X, p, self.tangent(X, p, J, t, reuse, Rp), res.residual,
                         res.iterations)
 
 

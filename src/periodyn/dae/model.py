@@ -174,7 +174,10 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
 
     # ---- force
     def force_b(q, qd, t, w, P):
-        return np.stack([call_force(q[k], qd[k], float(t[k]), w, P) for k in range(q.shape[0])])
+        out = np.empty((q.shape[0], n))
+        for k in range(q.shape[0]):
+            out[k] = call_force(q[k], qd[k], float(t[k]), w, P)
+        return out
 
     if force_jacobian is not None:
         def fjac_b(q, qd, t, w, P):

@@ -22,7 +22,8 @@ from scipy.integrate import solve_ivp
 from ..errors import ConvergenceError, InputError
 from .newton import least_squares_factor, newton
 
-__all__ = ["TimeHistory", "accelerations", "integrate", "consistent_state", "steady_state", "solve"]
+__all__ = ["TimeHistory", "accelerations", "baumgarte_rate", "saddle_solve", "integrate", "consistent_state",
+           "steady_state", "solve"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,39 +37,46 @@ class TimeHistory:
     nfev: int
 
 
-def _rate(system, omega, baumgarte):
+def baumgarte_rate(system, omega, baumgarte=None) -> float:
+    """Stabilization rate a (1/s): ``baumgarte`` or the default 5 omega."""
     if system.constraint_rates is None and system.m:
         raise InputError("time integration of a constrained DAE needs constraint_rates (Phi_t, gamma)")
     return 5.0 * omega if baumgarte is None else float(baumgarte)
 
 
+def saddle_solve(M, Pq, top, bottom):
+    """Solve [[M, Pq^T], [Pq, 0]] [x; lam] = [top; bottom] for a batch: M (p, n, n), Pq
+    (p, m, n), top (p, n, k), bottom (p, m, k) -> x (p, n, k), lam (p, m, k). A diagonal
+    mass takes the Schur complement on the m multipliers."""
+    p, n = M.shape[:2]
+    m = Pq.shape[1]
+    d = np.diagonal(M, axis1=1, axis2=2)
+    if np.all(M == d[:, :, None] * np.eye(n)):
+        PMi = Pq / d[:, None, :]
+        lam = np.linalg.solve(PMi @ np.swapaxes(Pq, 1, 2), PMi @ top - bottom)
+        return (top - np.swapaxes(Pq, 1, 2) @ lam) / d[:, :, None], lam
+    A = np.zeros((p, n + m, n + m))
+    A[:, :n, :n] = M
+    A[:, :n, n:] = np.swapaxes(Pq, 1, 2)
+    A[:, n:, :n] = Pq
+    sol = np.linalg.solve(A, np.concatenate([top, bottom], axis=1))
+    return sol[:, :n], sol[:, n:]
+
+
 def accelerations(system, q, qd, t, omega, params=None, baumgarte: float | None = None):
     """q'' (p, n) and lambda (p, m) for a batch of states q, qd (p, n) at times t (p,)."""
     P = system.parameters if params is None else params
-    n, m = system.n, system.m
-    a = _rate(system, omega, baumgarte)
+    a = baumgarte_rate(system, omega, baumgarte)
     M = np.asarray(system.mass(q))
     f = system.force(q, qd, t, omega, P)
-    if m == 0:
+    if system.m == 0:
         return np.linalg.solve(M, f[..., None])[..., 0], np.zeros((q.shape[0], 0))
     Pq = system.constraint_jacobian(q, t, omega, P)
     phi = system.constraint(q, t, omega, P)
     phit, gam = system.constraint_rates(q, qd, t, omega, P)
-    vel = np.einsum("pkn,pn->pk", Pq, qd) + phit
-    rhs_c = gam - 2 * a * vel - a * a * phi
-    d = np.diagonal(M, axis1=1, axis2=2)
-    if np.all(M == d[:, :, None] * np.eye(n)):  # diagonal mass: Schur complement on the m multipliers
-        PMi = Pq / d[:, None, :]
-        S = PMi @ np.swapaxes(Pq, 1, 2)
-        lam = np.linalg.solve(S, (np.einsum("pkn,pn->pk", PMi, f) - rhs_c)[..., None])[..., 0]
-        return (f - np.einsum("pkn,pk->pn", Pq, lam)) / d, lam
-    A = np.zeros((q.shape[0], n + m, n + m))
-    A[:, :n, :n] = M
-    A[:, :n, n:] = np.swapaxes(Pq, 1, 2)
-    A[:, n:, :n] = Pq
-    rhs = np.concatenate([f, rhs_c], axis=1)
-    sol = np.linalg.solve(A, rhs[..., None])[..., 0]
-    return sol[:, :n], sol[:, n:]
+    rhs_c = gam - 2 * a * (np.einsum("pkn,pn->pk", Pq, qd) + phit) - a * a * phi
+    qdd, lam = saddle_solve(M, Pq, f[..., None], rhs_c[..., None])
+    return qdd[..., 0], lam[..., 0]
 
 
 def consistent_state(system, q, qd, t, omega, params=None, tol=1e-13, max_iter=50):
