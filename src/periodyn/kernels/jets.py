@@ -111,6 +111,17 @@ def scale(a, s, out):
 
 
 @njit(cache=True)
+def _put3(T, i, j, k, t):
+    """Write t to the six permutations of the symmetric third-order entry (i, j, k)."""
+    T[i, j, k] = t
+    T[i, k, j] = t
+    T[j, i, k] = t
+    T[j, k, i] = t
+    T[k, i, j] = t
+    T[k, j, i] = t
+
+
+@njit(cache=True)
 def mul(a, b, out):
     """out = a b by the Leibniz rule to third order."""
     n = dim(a)
@@ -120,13 +131,14 @@ def mul(a, b, out):
     a0 = av[0]
     b0 = bv[0]
     for i in range(n):
-        for j in range(n):
+        for j in range(i, n):
             aij = aH[i, j]
             bij = bH[i, j]
-            for k in range(n):
-                oT[i, j, k] = (aT[i, j, k] * b0 + a0 * bT[i, j, k]
-                               + aij * bg[k] + aH[i, k] * bg[j] + aH[j, k] * bg[i]
-                               + ag[i] * bH[j, k] + ag[j] * bH[i, k] + ag[k] * bij)
+            for k in range(j, n):
+                t = (aT[i, j, k] * b0 + a0 * bT[i, j, k]
+                     + aij * bg[k] + aH[i, k] * bg[j] + aH[j, k] * bg[i]
+                     + ag[i] * bH[j, k] + ag[j] * bH[i, k] + ag[k] * bij)
+                _put3(oT, i, j, k, t)
     for i in range(n):
         for j in range(n):
             oH[i, j] = aH[i, j] * b0 + a0 * bH[i, j] + ag[i] * bg[j] + ag[j] * bg[i]
@@ -143,13 +155,14 @@ def compose(a, f0, f1, f2, f3, out):
     _, ag, aH, aT = parts(a)
     ov, og, oH, oT = parts(out)
     for i in range(n):
-        for j in range(n):
+        for j in range(i, n):
             aij = aH[i, j]
             gij = ag[i] * ag[j]
-            for k in range(n):
-                oT[i, j, k] = (f1 * aT[i, j, k]
-                               + f2 * (aij * ag[k] + aH[i, k] * ag[j] + aH[j, k] * ag[i])
-                               + f3 * gij * ag[k])
+            for k in range(j, n):
+                t = (f1 * aT[i, j, k]
+                     + f2 * (aij * ag[k] + aH[i, k] * ag[j] + aH[j, k] * ag[i])
+                     + f3 * gij * ag[k])
+                _put3(oT, i, j, k, t)
     for i in range(n):
         for j in range(n):
             oH[i, j] = f1 * aH[i, j] + f2 * ag[i] * ag[j]
