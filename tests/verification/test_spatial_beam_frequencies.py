@@ -140,3 +140,35 @@ def test_paper_output_inertia_sets_torsion_to_bending_over_root_two():
     """Section 4.4: I_o makes the first torsional frequency of the shaft with lumped rotary
     inertia equal omega_b / sqrt(2) (one element: stiffness GJ/L against I_o + rhoJ L / 2)."""
     assert _torsion(1, True, I_OUTPUT) == pytest.approx(OMEGA_B / np.sqrt(2), rel=1e-5)
+
+
+def test_pinned_column_buckles_at_the_euler_load():
+    """Geometric stiffness from axial force: with the compressive force P in every element
+    (initial stress -P on the elongation), ``K + sum sigma D_xx`` turns singular at
+    P = pi^2 EI / L^2 as the mesh is refined, in both bending planes."""
+    euler = np.pi**2 * E_MOD * I_AREA / L**2
+    beam = shaft(rotary=False, lumped=False)
+    nd = spatial_beam.NDOF
+    errors = []
+    for n_el in (2, 4, 8):
+        K, _ = assemble(beam, n_el)
+        Kg = np.zeros_like(K)
+        h = L / n_el
+        for e in range(n_el):
+            xe = np.zeros(nd)
+            xe[[0, 7]] = e * h, (e + 1) * h
+            xe[[3, 10]] = 1.0
+            D, Dx, Dxx, Dxxx = np.zeros(6), np.zeros((6, nd)), np.zeros((6, nd, nd)), np.zeros((6, nd, nd, nd))
+            spatial_beam.deformation(xe, beam.parameters(xe), D, Dx, Dxx, Dxxx)
+            Kg[7 * e:7 * e + nd, 7 * e:7 * e + nd] += Dxx[0]   # per unit tension
+        n_x = K.shape[0]
+        # pinned ends, and the twist of node 0 held (K is then positive definite)
+        keep = [i for i in range(n_x) if i % 7 != 3 and not (i < 5 or n_x - 7 <= i < n_x - 4)]
+        # (K - P Kg) phi = 0 under compression P: Kg phi = (1/P) K phi, the smallest P > 0
+        loads = eigh(Kg[np.ix_(keep, keep)], K[np.ix_(keep, keep)], eigvals_only=True)
+        loads = np.sort(1.0 / loads[loads > 1e-12])
+        assert loads[1] == pytest.approx(loads[0], rel=1e-9)   # both planes
+        errors.append(loads[0] / euler - 1)
+    assert errors[0] > errors[1] > errors[2] > 0.0
+    assert errors[0] == pytest.approx(0.0075, abs=1e-4)   # the textbook 0.75 % of two cubic elements
+    assert np.log2(errors[1] / errors[2]) > 3.5 and errors[2] < 4e-5
