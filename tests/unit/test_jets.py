@@ -25,13 +25,9 @@ def _orders(J):
 
 
 def _fd(fun, x, h=1e-5):
-    """Central differences of fun(x) (array) w.r.t. x, derivative index last."""
-    cols = []
-    for i in range(x.size):
-        e = np.zeros_like(x)
-        e[i] = h
-        cols.append((np.asarray(fun(x + e)) - np.asarray(fun(x - e))) / (2 * h))
-    return np.stack(cols, axis=-1)
+    """Central differences of fun (array-valued) w.r.t. x, derivative index last."""
+    return np.stack([(np.asarray(fun(x + h * e)) - np.asarray(fun(x - h * e))) / (2 * h) for e in np.eye(x.size)],
+                    axis=-1)
 
 
 def _complex_step(fun, x, h=1e-30):

@@ -55,13 +55,10 @@ def ipar_of(par, lumped):
     return np.r_[par, 2.5, section_second_moments(0.05, 0.02, 0.03), float(lumped)]
 
 
-def _fd(fun, x, h):
-    cols = []
-    for i in range(x.size):
-        e = np.zeros_like(x)
-        e[i] = h
-        cols.append((fun(x + e) - fun(x - e)) / (2 * h))
-    return np.stack(cols, axis=-1)
+def _fd(fun, x, h=1e-5):
+    """Central differences of fun (array-valued) w.r.t. x, derivative index last."""
+    return np.stack([(np.asarray(fun(x + h * e)) - np.asarray(fun(x - h * e))) / (2 * h) for e in np.eye(x.size)],
+                    axis=-1)
 
 
 def _close(got, want, rel):

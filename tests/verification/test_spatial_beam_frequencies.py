@@ -69,6 +69,22 @@ def assemble(beam: SpatialBeam, n_el: int, end_inertia: float = 0.0):
     return K, M
 
 
+def geometric_stiffness(beam, n_el, mode):
+    """``sum D_xx[mode]`` over the elements of the straight shaft: the geometric stiffness
+    of a unit stress on that mode in every element."""
+    nd = spatial_beam.NDOF
+    n_x = 7 * (n_el + 1)
+    Kg = np.zeros((n_x, n_x))
+    for e in range(n_el):
+        xe = np.zeros(nd)
+        xe[[0, 7]] = e * L / n_el, (e + 1) * L / n_el
+        xe[[3, 10]] = 1.0
+        D, Dx, Dxx, Dxxx = np.zeros(6), np.zeros((6, nd)), np.zeros((6, nd, nd)), np.zeros((6, nd, nd, nd))
+        spatial_beam.deformation(xe, beam.parameters(xe), D, Dx, Dxx, Dxxx)
+        Kg[7 * e:7 * e + nd, 7 * e:7 * e + nd] += Dxx[mode]
+    return Kg
+
+
 def frequencies(K, M, keep):
     """Undamped eigenfrequencies (rad/s) on the coordinates ``keep``."""
     w2 = eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True)
@@ -142,33 +158,50 @@ def test_paper_output_inertia_sets_torsion_to_bending_over_root_two():
     assert _torsion(1, True, I_OUTPUT) == pytest.approx(OMEGA_B / np.sqrt(2), rel=1e-5)
 
 
+def inverse_critical_stresses(n_el, mode, hold_end_twist):
+    """Eigenvalues 1/s of ``(K + s Kg) phi = 0``, Kg the geometric stiffness of a unit stress
+    on ``mode`` in every element: ends pinned, the twist of node 0 held (and of the last
+    node if hold_end_twist), lam_0 dropped as for the frequencies."""
+    beam = shaft(rotary=False, lumped=False)
+    K, _ = assemble(beam, n_el)
+    Kg = geometric_stiffness(beam, n_el, mode)
+    n_x = K.shape[0]
+    last = n_x - (2 if hold_end_twist else 4)
+    keep = [i for i in range(n_x) if i % 7 != 3 and not (i < 5 or n_x - 7 <= i < last)]
+    return eigh(-Kg[np.ix_(keep, keep)], K[np.ix_(keep, keep)], eigvals_only=True)
+
+
 def test_pinned_column_buckles_at_the_euler_load():
     """Geometric stiffness from axial force: with the compressive force P in every element
     (initial stress -P on the elongation), ``K + sum sigma D_xx`` turns singular at
     P = pi^2 EI / L^2 as the mesh is refined, in both bending planes."""
     euler = np.pi**2 * E_MOD * I_AREA / L**2
-    beam = shaft(rotary=False, lumped=False)
-    nd = spatial_beam.NDOF
     errors = []
     for n_el in (2, 4, 8):
-        K, _ = assemble(beam, n_el)
-        Kg = np.zeros_like(K)
-        h = L / n_el
-        for e in range(n_el):
-            xe = np.zeros(nd)
-            xe[[0, 7]] = e * h, (e + 1) * h
-            xe[[3, 10]] = 1.0
-            D, Dx, Dxx, Dxxx = np.zeros(6), np.zeros((6, nd)), np.zeros((6, nd, nd)), np.zeros((6, nd, nd, nd))
-            spatial_beam.deformation(xe, beam.parameters(xe), D, Dx, Dxx, Dxxx)
-            Kg[7 * e:7 * e + nd, 7 * e:7 * e + nd] += Dxx[0]   # per unit tension
-        n_x = K.shape[0]
-        # pinned ends, and the twist of node 0 held (K is then positive definite)
-        keep = [i for i in range(n_x) if i % 7 != 3 and not (i < 5 or n_x - 7 <= i < n_x - 4)]
-        # (K - P Kg) phi = 0 under compression P: Kg phi = (1/P) K phi, the smallest P > 0
-        loads = eigh(Kg[np.ix_(keep, keep)], K[np.ix_(keep, keep)], eigvals_only=True)
-        loads = np.sort(1.0 / loads[loads > 1e-12])
+        inverse = inverse_critical_stresses(n_el, 0, hold_end_twist=False)
+        loads = np.sort(1.0 / -inverse[inverse < -1e-12])   # compressive: s = -P < 0
         assert loads[1] == pytest.approx(loads[0], rel=1e-9)   # both planes
         errors.append(loads[0] / euler - 1)
     assert errors[0] > errors[1] > errors[2] > 0.0
     assert errors[0] == pytest.approx(0.0075, abs=1e-4)   # the textbook 0.75 % of two cubic elements
     assert np.log2(errors[1] / errors[2]) > 3.5 and errors[2] < 4e-5
+
+
+def test_torqued_shaft_buckles_at_the_continuum_torque():
+    """Geometric stiffness from torque: a pinned shaft with its end twists held (lam_1 = 0:
+    the rotation vectors' axial components vanish) under the torque T in every element
+    (initial stress on the torsion mode). The torsion mode is the integral of the
+    sections' torsional curvature, so the continuum energy of the buckling mode
+    u = v + i w is ``1/2 EI int |u''|^2 - T/2 int Im(conj(u') u'')``; its Euler equation
+    EI u'''' = i T u''' with u = 0 and EI u'' = (i T / 2) u' at both ends gives
+    T = x EI / L with tan(x / 2) = -x / 6 (x = 4.9113)."""
+    y = brentq(lambda y: np.tan(y) + y / 3, np.pi / 2 + 1e-6, np.pi - 1e-9)
+    critical = 2 * y * E_MOD * I_AREA / L
+    errors = []
+    for n_el in (4, 8, 16):
+        inverse = inverse_critical_stresses(n_el, 1, hold_end_twist=True)
+        torques = np.sort(1.0 / np.abs(inverse[np.abs(inverse) > 1e-14]))
+        assert torques[1] == pytest.approx(torques[0], rel=1e-9)   # either sense of the torque
+        errors.append(torques[0] / critical - 1)
+    assert errors[0] > errors[1] > errors[2] > 0.0
+    assert np.log2(errors[1] / errors[2]) > 3.5 and errors[2] < 2e-5
