@@ -256,12 +256,14 @@ def test_interpolation_integrals():
 
 # ----------------------------------------------------------------------------- model data
 def test_spatial_beam_data_and_errors():
-    beam = SpatialBeam("b", ("p", "q"), ("flexible",) * 6, EA=3.0, GJ=2.0, EI_y=5.0, EI_z=7.0,
+    beam = SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=3.0, GJ=2.0, EI_y=5.0, EI_z=7.0,
                        kelvin_voigt=0.01)
     S = beam.stiffness_matrix(2.0)
     np.testing.assert_allclose(np.diag(S), [1.5, 1.0, 14.0, 14.0, 10.0, 10.0])
     assert S[2, 3] == 7.0 and S[4, 5] == 5.0 and S[0, 1] == 0.0
     np.testing.assert_allclose(beam.damping_matrix(2.0), 0.01 * S)
+    assert beam.coordinates() == ["p.x", "p.y", "p.z", "Rp.l0", "Rp.l1", "Rp.l2", "Rp.l3",
+                                  "q.x", "q.y", "q.z", "Rq.l0", "Rq.l1", "Rq.l2", "Rq.l3"]
     ident = np.array([1.0, 0, 0, 0])
     with pytest.raises(InputError, match="zero length"):
         beam_parameters(np.zeros(3), ident, np.zeros(3), ident, (0, 1, 0))
@@ -270,7 +272,7 @@ def test_spatial_beam_data_and_errors():
     with pytest.raises(InputError, match="unit norm"):
         beam_parameters(np.zeros(3), 2 * ident, np.ones(3), ident, (0, 1, 0))
     with pytest.raises(InputError, match="EA"):
-        SpatialBeam("b", ("p", "q"), ("flexible",) * 6, EA=-1.0)
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=-1.0)
 
 
 def _qmul(a, b):

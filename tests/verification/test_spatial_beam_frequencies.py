@@ -23,7 +23,7 @@ OMEGA_B = np.pi**2 * np.sqrt(E_MOD * I_AREA / (RHO * AREA * L**4))   # 765.71 ra
 
 
 def shaft(rotary: bool, lumped: bool) -> SpatialBeam:
-    return SpatialBeam("shaft", ("p", "q"), ("flexible",) * 6, EA=E_MOD * AREA, GJ=G_MOD * J_AREA,
+    return SpatialBeam("shaft", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=E_MOD * AREA, GJ=G_MOD * J_AREA,
                        EI_y=E_MOD * I_AREA, EI_z=E_MOD * I_AREA, mass_per_length=RHO * AREA,
                        polar_inertia_per_length=RHO * J_AREA, rotary_inertia_y=RHO * I_AREA * rotary,
                        rotary_inertia_z=RHO * I_AREA * rotary, lumped_rotary=lumped)

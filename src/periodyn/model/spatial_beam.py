@@ -1,9 +1,10 @@
 """The spatial beam as model data: reference geometry -> kernel parameters, material data
 -> stiffness, damping and inertia parameters (kernel: :mod:`periodyn.kernels.spatial_beam`).
 
-Nodes carry a position (3) and Euler parameters (4, scalar first, ``(cos(phi/2), sin(phi/2) n)``
-for a rotation phi about the unit axis n); the element's local coordinates are
-``[x_p, lam_p, x_q, lam_q]``.
+A beam joins two points (coordinates ``"<p>.x", "<p>.y", "<p>.z"``) and two orientation
+nodes (Euler parameters ``"<R>.l0" .. "<R>.l3"``, scalar first, ``(cos(phi/2), sin(phi/2) n)``
+for a rotation phi about the unit axis n, body to global); the element's local coordinates
+are ``[x_p, lam_p, x_q, lam_q]``.
 """
 
 from __future__ import annotations
@@ -62,8 +63,8 @@ def section_second_moments(polar: float, about_y: float, about_z: float) -> np.n
 
 @dataclass(frozen=True)
 class SpatialBeam:
-    """Spatial Euler-Bernoulli beam between nodes (p, q), each with a position and Euler
-    parameters. Modes (see MODE_NAMES): elongation (m), torsion and four end rotations
+    """Spatial Euler-Bernoulli beam between points (p, q) carrying orientation nodes
+    (R_p, R_q). Modes (see MODE_NAMES): elongation (m), torsion and four end rotations
     relative to the chord (rad). EA (N), GJ, EI_y, EI_z (N m^2; EI_z resists bending about
     the section z axis, in the x-y plane), mass_per_length rhoA (kg/m), rotary inertia per
     length of the sections polar rhoJ, about y rhoI_y, about z rhoI_z (kg m), lumped_rotary
@@ -71,7 +72,8 @@ class SpatialBeam:
     S_d = beta S. y_axis: reference direction of the sections' y axis (3,)."""
 
     name: str
-    nodes: tuple[str, str]
+    points: tuple[str, str]
+    orientations: tuple[str, str]
     modes: tuple[str, ...]
     y_axis: tuple[float, float, float] = (0.0, 1.0, 0.0)
     EA: float = 0.0
@@ -97,6 +99,12 @@ class SpatialBeam:
                 raise InputError(f"spatial beam '{self.name}': {field} = {value} must be finite and >= 0")
         if len(self.y_axis) != 3:
             raise InputError(f"spatial beam '{self.name}': y_axis needs 3 components, got {self.y_axis}")
+
+    def coordinates(self) -> list[str]:
+        names = []
+        for point, node in zip(self.points, self.orientations):
+            names += [f"{point}.{c}" for c in "xyz"] + [f"{node}.l{i}" for i in range(4)]
+        return names
 
     def parameters(self, x_ref: np.ndarray) -> np.ndarray:
         """par (19,) from the reference local coordinates (14,)."""
