@@ -52,28 +52,27 @@ SLOPE_MASS = np.array([[6 / 5, -1 / 10, -1 / 10], [-1 / 10, 2 / 15, -1 / 30], [-
 
 
 @njit(cache=True)
-def chord(xe, out):
-    """out (3, size(14)) = jets of u = x_q - x_p."""
+def chord(xe, ip, iq, out):
+    """out (3, size(n)) = jets of u = x_q - x_p over n local coordinates, x_p at local
+    positions ip..ip+2 and x_q at iq..iq+2 (values from xe[0:3], xe[7:10])."""
     out[:] = 0.0
     for c in range(3):
         out[c, 0] = xe[7 + c] - xe[c]
-        out[c, 1 + c] = -1.0
-        out[c, 8 + c] = 1.0
+        out[c, 1 + ip + c] = -1.0
+        out[c, 1 + iq + c] = 1.0
 
 
 @njit(cache=True)
-def node_axes(xe, par, out):
-    """out (2, 3, 3, size(14)): jets of the section axes t_k of node p (out[0, k]) and q
-    (out[1, k]), ``t_k = R(lam) A[k]``."""
-    n = NDOF
-    R = np.empty((3, 3, jets.size(n)))
-    for node in range(2):
-        off = 3 + 7 * node
-        jets.rotation_seeded(xe[off:off + 4], off, R)
-        A = par[1 + 9 * node:10 + 9 * node]
-        for k in range(3):
-            for c in range(3):
-                out[node, k, c] = A[3 * k] * R[c, 0] + A[3 * k + 1] * R[c, 1] + A[3 * k + 2] * R[c, 2]
+def axes(xe, par, node, offset, out):
+    """out (3, 3, size(n)): jets of the section axes ``t_k = R(lam) A[k]`` of node 0 (p) or
+    1 (q), its Euler parameters at local positions offset..offset+3."""
+    R = np.empty((3, 3, out.shape[2]))
+    jets.rotation_seeded(xe[3 + 7 * node:7 + 7 * node], offset, R)
+    A = par[1 + 9 * node:10 + 9 * node]
+    for k in range(3):
+        for c in range(3):
+            jets.lincomb(A[3 * k], R[c, 0], A[3 * k + 1], R[c, 1], out[k, c])
+            jets.lincomb(1.0, out[k, c], A[3 * k + 2], R[c, 2], out[k, c])
 
 
 @njit(cache=True)
@@ -96,50 +95,81 @@ def _bow(a, b, tmp, out):
     jets.lincomb(1.0, out, 2.0, tmp, out)
 
 
+# local coordinates of the partial computations: a node's bending angles depend on
+# (x_p, x_q, its lam) only, the end-frame twist on (lam_p, lam_q) only
+BEND_P = np.arange(10)
+BEND_Q = np.array([0, 1, 2, 7, 8, 9, 10, 11, 12, 13])
+TWIST = np.array([3, 4, 5, 6, 10, 11, 12, 13])
+
+
+@njit(cache=True)
+def _bending(xe, par, node, a, b):
+    """Embedded jets a (about z), b (about y) of the end rotations of node 0 or 1."""
+    m = jets.size(10)
+    u = np.empty((3, m))
+    chord(xe, 0, 3 + 4 * (1 - node), u)
+    t = np.empty((3, 3, m))
+    axes(xe, par, node, 3 + 3 * node, t)
+    dots = np.empty((3, m))
+    for k in range(3):
+        jets.dot3(t[k], u, dots[k])
+    angle = np.empty(m)
+    jets.scale(dots[1], -1.0, dots[1])
+    jets.atan2(dots[1], dots[0], angle)
+    index = BEND_P if node == 0 else BEND_Q
+    jets.embed(angle, index, a)
+    jets.atan2(dots[2], dots[0], angle)
+    jets.embed(angle, index, b)
+
+
+@njit(cache=True)
+def _twist(xe, par, out):
+    """Embedded jet of the end-frame twist angle atan2(t3p.t2q - t2p.t3q, t2p.t2q + t3p.t3q)."""
+    m = jets.size(8)
+    tp = np.empty((3, 3, m))
+    tq = np.empty((3, 3, m))
+    axes(xe, par, 0, 0, tp)
+    axes(xe, par, 1, 4, tq)
+    s = np.empty(m)
+    c = np.empty(m)
+    tmp = np.empty(m)
+    jets.dot3(tp[2], tq[1], s)
+    jets.dot3(tp[1], tq[2], tmp)
+    jets.sub(s, tmp, s)
+    jets.dot3(tp[1], tq[1], c)
+    jets.dot3(tp[2], tq[2], tmp)
+    jets.add(c, tmp, c)
+    jets.atan2(s, c, tmp)
+    jets.embed(tmp, TWIST, out)
+
+
 @njit(cache=True)
 def deformation(xe, par, D, Dx, Dxx, Dxxx):
     """Overwrite D[:6], Dx[:6, :14], Dxx[:6, :14, :14], Dxxx[:6, :14, :14, :14] with the
     deformation modes and their derivatives w.r.t. xe (14,)."""
     m = jets.size(NDOF)
     l0 = par[0]
-    u = np.empty((3, m))
-    chord(xe, u)
-    t = np.empty((2, 3, 3, m))
-    node_axes(xe, par, t)
-    dots = np.empty((2, 3, m))  # t_k . u per node
-    for node in range(2):
-        for k in range(3):
-            jets.dot3(t[node, k], u, dots[node, k])
     ang = np.empty((4, m))      # a_p, a_q, b_p, b_q
-    tmp = np.empty(m)
-    tmp2 = np.empty(m)
     for node in range(2):
-        jets.scale(dots[node, 1], -1.0, tmp)
-        jets.atan2(tmp, dots[node, 0], ang[node])
-        jets.atan2(dots[node, 2], dots[node, 0], ang[2 + node])
+        _bending(xe, par, node, ang[node], ang[2 + node])
     out = np.empty(m)
+    tmp = np.empty(m)
     # torsion
-    sin_part = np.empty(m)
-    cos_part = np.empty(m)
-    jets.dot3(t[0, 2], t[1, 1], sin_part)
-    jets.dot3(t[0, 1], t[1, 2], tmp)
-    jets.sub(sin_part, tmp, sin_part)
-    jets.dot3(t[0, 1], t[1, 1], cos_part)
-    jets.dot3(t[0, 2], t[1, 2], tmp)
-    jets.add(cos_part, tmp, cos_part)
-    jets.atan2(sin_part, cos_part, out)
+    _twist(xe, par, out)
     jets.mul(ang[2], ang[1], tmp)
     jets.add(out, tmp, out)
     jets.mul(ang[3], ang[0], tmp)
     jets.sub(out, tmp, out)
     _store(out, 1, D, Dx, Dxx, Dxxx)
     # elongation with the bowing of both planes
+    u = np.empty((3, m))
+    chord(xe, 0, 7, u)
     jets.dot3(u, u, tmp)
     jets.sqrt(tmp, out)
     out[0] -= l0
     bow = np.zeros(m)
     _bow(ang[0], ang[1], tmp, bow)
-    _bow(ang[2], ang[3], tmp2, bow)
+    _bow(ang[2], ang[3], tmp, bow)
     jets.lincomb(1.0, out, l0 / 30.0, bow, out)
     _store(out, 0, D, Dx, Dxx, Dxxx)
     for k in range(4):
@@ -189,9 +219,10 @@ def inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     E = ipar[NPAR + 1:NPAR + 4]
     lumped = ipar[NPAR + 4] != 0.0
     u = np.empty((3, m))
-    chord(xe, u)
+    chord(xe, 0, 7, u)
     t = np.empty((2, 3, 3, m))
-    node_axes(xe, ipar, t)
+    for node in range(2):
+        axes(xe, ipar, node, 3 + 7 * node, t[node])
     nrot = 6 if lumped else 9
     g = np.zeros((4 + nrot, 3, m))
     mass = np.zeros((4 + nrot, 4 + nrot))

@@ -31,37 +31,49 @@ def add_vector_inertia(g, mass, weights, ve, ae, gravity, M, r, C, K):
     nv = g.shape[0]
     n = jets.dim(g[0, 0])
     G = np.empty((nv, 3, n))
-    acc = np.empty((nv, 3))            # g''
-    acc_v = np.empty((nv, 3, n))       # d g'' / d v
-    acc_x = np.empty((nv, 3, n))       # d g'' / d x at fixed v, a
+    acc = np.zeros((nv, 3))            # g''
+    acc_v = np.zeros((nv, 3, n))       # d g'' / d v
+    acc_x = np.zeros((nv, 3, n))       # d g'' / d x at fixed v, a
     for i in range(nv):
         for c in range(3):
             _, gi, Hi, Ti = jets.parts(g[i, c])
             G[i, c] = gi
-            Hv = Hi @ ve
-            acc[i, c] = gi @ ae + Hv @ ve
-            acc_v[i, c] = 2.0 * Hv
-            acc_x[i, c] = Hi @ ae
-            for b in range(n):
-                acc_x[i, c, b] += (Ti[b] @ ve) @ ve
+            for a in range(n):
+                hv = 0.0
+                ha = 0.0
+                for b in range(n):
+                    hv += Hi[a, b] * ve[b]
+                    ha += Hi[a, b] * ae[b]
+                    tvv = 0.0
+                    for d in range(n):
+                        tvv += Ti[a, b, d] * ve[d]
+                    acc_x[i, c, a] += tvv * ve[b]
+                acc[i, c] += gi[a] * ae[a] + hv * ve[a]
+                acc_v[i, c, a] = 2.0 * hv
+                acc_x[i, c, a] += ha
+    b_i = np.empty(3)
     for i in range(nv):
-        b_i = -weights[i] * gravity
-        Y = np.zeros((3, n))     # sum_j m_ij G_j
-        Yv = np.zeros((3, n))    # sum_j m_ij d g_j'' / d v
-        Yx = np.zeros((3, n))    # sum_j m_ij d g_j'' / d x
+        for c in range(3):
+            b_i[c] = -weights[i] * gravity[c]
         for j in range(nv):
             mij = mass[i, j]
             if mij == 0.0:
                 continue
-            b_i = b_i + mij * acc[j]
-            Y += mij * G[j]
-            Yv += mij * acc_v[j]
-            Yx += mij * acc_x[j]
-        Gi = G[i]
-        M += Gi.T @ Y
-        C += Gi.T @ Yv
-        K += Gi.T @ Yx
-        r += Gi.T @ b_i
+            for c in range(3):
+                b_i[c] += mij * acc[j, c]
+                for a in range(n):
+                    gia = G[i, c, a]
+                    if gia == 0.0:
+                        continue
+                    for b in range(n):
+                        M[a, b] += mij * gia * G[j, c, b]
+                        C[a, b] += mij * gia * acc_v[j, c, b]
+                        K[a, b] += mij * gia * acc_x[j, c, b]
         for c in range(3):
-            if b_i[c] != 0.0:
-                K += b_i[c] * jets.parts(g[i, c])[2]
+            if b_i[c] == 0.0:
+                continue
+            _, gi, Hi, _ = jets.parts(g[i, c])
+            for a in range(n):
+                r[a] += gi[a] * b_i[c]
+                for b in range(n):
+                    K[a, b] += b_i[c] * Hi[a, b]
