@@ -78,6 +78,8 @@ class PlanarBeam:
 
     family = FAMILY_PLANAR_BEAM
     mode_names = ("elongation", "bending_p", "bending_q")
+    interpolation_size = 4
+    rotary_size = 3
 
     def coordinates(self) -> list[str]:
         p, q = self.points
@@ -123,6 +125,8 @@ class PlanarTruss:
 
     family = FAMILY_PLANAR_TRUSS
     mode_names = ("elongation",)
+    interpolation_size = 2
+    rotary_size = 0
 
     def coordinates(self) -> list[str]:
         p, q = self.points
@@ -159,6 +163,8 @@ class PlanarHinge:
 
     family = FAMILY_PLANAR_HINGE
     mode_names = ("rotation",)
+    interpolation_size = 0
+    rotary_size = 0
 
     def coordinates(self) -> list[str]:
         return list(self.angles)

@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
 from ..kernels.assembly import ModelArrays
 from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation, check_scale
 from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
@@ -334,17 +333,22 @@ class Model:
             row += 1
 
         ne = len(self.elements)
+        # local widths: the widest family present in this model (no global padding)
+        w_dof = max((len(el.coordinates()) for el in self.elements), default=1)
+        w_mode = max((len(el.mode_names) for el in self.elements), default=1)
+        w_interp = max((el.interpolation_size for el in self.elements), default=1)
+        w_rot = max((el.rotary_size for el in self.elements), default=1)
         family = np.zeros(ne, dtype=np.int64)
-        dofs = -np.ones((ne, MAX_DOF), dtype=np.int64)
+        dofs = -np.ones((ne, w_dof), dtype=np.int64)
         ndof = np.zeros(ne, dtype=np.int64)
         par = np.zeros((ne, 3))
-        modes = -np.ones((ne, MAX_MODE), dtype=np.int64)
+        modes = -np.ones((ne, w_mode), dtype=np.int64)
         nmode = np.zeros(ne, dtype=np.int64)
-        stiff = np.zeros((ne, MAX_MODE, MAX_MODE))
-        damp = np.zeros((ne, MAX_MODE, MAX_MODE))
-        mass = np.zeros((ne, MAX_INTERP, MAX_INTERP))
-        weights = np.zeros((ne, MAX_INTERP))
-        rotary = np.zeros((ne, MAX_MODE, MAX_MODE))
+        stiff = np.zeros((ne, w_mode, w_mode))
+        damp = np.zeros((ne, w_mode, w_mode))
+        mass = np.zeros((ne, w_interp, w_interp))
+        weights = np.zeros((ne, w_interp))
+        rotary = np.zeros((ne, w_rot, w_rot))
         k0 = 0
         for e, el in enumerate(self.elements):
             loc = [index[c] for c in el.coordinates()]
