@@ -25,14 +25,12 @@ ModelArrays = namedtuple("ModelArrays", [
     "family",       # (ne,) int64 family id
     "dofs",         # (ne, n_dof) int64 global nodal-coordinate index, -1 padded
     "ndof",         # (ne,) int64
-    "par",          # (ne, 3) float geometric parameters of the family
+    "par",          # (ne, n_par) float geometric parameters of the family, zero padded
     "modes",        # (ne, n_mode) int64 global mode index, -1 padded
     "nmode",        # (ne,) int64
     "stiffness",    # (ne, n_mode, n_mode) Kelvin-Voigt S (flexible/free modes only)
     "damping",      # (ne, n_mode, n_mode) Kelvin-Voigt S_d, s * S units
-    "mass",         # (ne, 4, 4) interpolation mass coefficients, kg
-    "weights",      # (ne, 4) interpolation weights for distributed gravity, kg
-    "rotary",       # (ne, 3, 3) rotary-inertia interpolation coefficients, kg m^2
+    "ipar",         # (ne, n_ipar) float inertia parameters, layout per family module, zero padded
     "gravity",      # (dim,) m/s^2
     "mode_row",     # (n_modes,) int64 constraint row or -1 (free mode)
     "coord_row",    # (n_x,) int64 constraint row or -1 (dependent coordinate)
@@ -288,9 +286,9 @@ def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
         Ke[:] = 0.0
         fam = arr.family[e]
         if fam == FAMILY_PLANAR_BEAM:
-            planar_beam.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
+            planar_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         elif fam == FAMILY_PLANAR_TRUSS:
-            planar_truss.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
+            planar_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], re, Ce, Ke)
         for i in range(nd):
             gi = arr.dofs[e, i]

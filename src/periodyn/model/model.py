@@ -334,28 +334,27 @@ class Model:
 
         ne = len(self.elements)
         # local widths: the widest family present in this model (no global padding)
+        pars = [el.parameters(x_ref[[index[c] for c in el.coordinates()]]) for el in self.elements]
+        ipars = [el.inertia_parameters(p) for el, p in zip(self.elements, pars)]
         w_dof = max((len(el.coordinates()) for el in self.elements), default=1)
         w_mode = max((len(el.mode_names) for el in self.elements), default=1)
-        w_interp = max((el.interpolation_size for el in self.elements), default=1)
-        w_rot = max((el.rotary_size for el in self.elements), default=1)
         family = np.zeros(ne, dtype=np.int64)
         dofs = -np.ones((ne, w_dof), dtype=np.int64)
         ndof = np.zeros(ne, dtype=np.int64)
-        par = np.zeros((ne, 3))
+        par = np.zeros((ne, max((p.size for p in pars), default=1)))
+        ipar = np.zeros((ne, max((p.size for p in ipars), default=1)))
         modes = -np.ones((ne, w_mode), dtype=np.int64)
         nmode = np.zeros(ne, dtype=np.int64)
         stiff = np.zeros((ne, w_mode, w_mode))
         damp = np.zeros((ne, w_mode, w_mode))
-        mass = np.zeros((ne, w_interp, w_interp))
-        weights = np.zeros((ne, w_interp))
-        rotary = np.zeros((ne, w_rot, w_rot))
         k0 = 0
         for e, el in enumerate(self.elements):
             loc = [index[c] for c in el.coordinates()]
             family[e] = el.family
             ndof[e] = len(loc)
             dofs[e, :len(loc)] = loc
-            par[e] = el.parameters(x_ref[loc])
+            par[e, :pars[e].size] = pars[e]
+            ipar[e, :ipars[e].size] = ipars[e]
             l0 = par[e, 0]
             if el.family != PlanarHinge.family and not l0 > 0:
                 raise InputError(f"element '{el.name}' has zero length in the reference configuration; move its points apart")
@@ -366,11 +365,6 @@ class Model:
             mask = np.outer(constitutive, constitutive)
             stiff[e, :nm, :nm] = el.stiffness_matrix(l0) * mask
             damp[e, :nm, :nm] = el.damping_matrix(l0) * mask
-            me, we = el.inertia(l0)
-            mass[e, :me.shape[0], :me.shape[1]] = me
-            weights[e, :we.shape[0]] = we
-            section = el.rotary(l0)
-            rotary[e, :section.shape[0], :section.shape[1]] = section
             k0 += nm
 
         nodal_mass = np.zeros(n_x)
@@ -384,7 +378,7 @@ class Model:
         for c, f in self.loads.items():
             nodal_force[index[c]] += f
 
-        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, mass, weights, rotary,
+        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, ipar,
                              np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
                              len(input_names), nodal_mass, nodal_force)
         outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
