@@ -28,14 +28,16 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
 
 @njit(cache=True)
 def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
-    """Add the bar's mass matrix to M (4,4) and ``M a - f_gravity`` to r (4,); the
+    """Add the bar's mass matrix to M (2 dim, 2 dim) and ``M a - f_gravity`` to r (2 dim,)
+    in dim = gravity.shape[0] dimensions (the spatial truss uses it too); the
     interpolation is linear in xe so C and K get nothing. ipar (>= 6,) as in the
-    module docstring, gravity (2,) m/s^2."""
+    module docstring, gravity (dim,) m/s^2."""
+    dim = gravity.shape[0]
     for i in range(2):
         for j in range(2):
             mij = ipar[2 * i + j]
-            for c in range(2):
-                M[2 * i + c, 2 * j + c] += mij
-                r[2 * i + c] += mij * ae[2 * j + c]
-        for c in range(2):
-            r[2 * i + c] -= ipar[4 + i] * gravity[c]
+            for c in range(dim):
+                M[dim * i + c, dim * j + c] += mij
+                r[dim * i + c] += mij * ae[dim * j + c]
+        for c in range(dim):
+            r[dim * i + c] -= ipar[4 + i] * gravity[c]

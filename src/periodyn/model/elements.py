@@ -79,6 +79,7 @@ class PlanarBeam:
 
     family = FAMILY_PLANAR_BEAM
     mode_names = ("elongation", "bending_p", "bending_q")
+    has_length = True
 
     def coordinates(self) -> list[str]:
         p, q = self.points
@@ -129,6 +130,7 @@ class PlanarTruss:
 
     family = FAMILY_PLANAR_TRUSS
     mode_names = ("elongation",)
+    has_length = True
 
     def coordinates(self) -> list[str]:
         p, q = self.points
