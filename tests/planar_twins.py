@@ -178,8 +178,9 @@ def motion_twin(model, x, qdot, qddot):
     K = np.zeros((n, n))
     for e, t in enumerate(tensors):
         idx = arr.dofs[e]
-        Me, re, Ce, Ke = beam_inertia_twin(x[idx], v[idx], a[idx], arr.mass[e], arr.weights[e], arr.rotary[e],
-                                           arr.gravity, arr.par[e])
+        ip = arr.ipar[e]  # planar beam layout: [l0, c_p, c_q, mass 4x4, weights 4, rotary 3x3]
+        Me, re, Ce, Ke = beam_inertia_twin(x[idx], v[idx], a[idx], ip[3:19].reshape(4, 4), ip[19:23],
+                                           ip[23:32].reshape(3, 3), arr.gravity, arr.par[e])
         rel, Cel, Kel = elastic_twin(t[0], t[1], t[2], v[idx], arr.stiffness[e], arr.damping[e])
         ix = np.ix_(idx, idx)
         M[ix] += Me

@@ -89,7 +89,7 @@ class OutputMap:
 
     def gradient(self, x: np.ndarray, Dx: np.ndarray | None = None) -> np.ndarray:
         """y_x on ``dofs`` (k,) at nodal coordinates x (n_x,); mode outputs need the
-        element tensors Dx (ne, MAX_MODE, MAX_DOF) at x."""
+        element tensors Dx (ne, n_mode, n_dof) at x."""
         k = self.dofs.size
         if self.kind == "midpoint_deflection":
             grad = np.empty(6)

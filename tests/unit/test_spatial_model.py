@@ -1,0 +1,85 @@
+"""The spatial model builder: coordinates, orientation nodes, and bad input (a joint axis
+of zero length, an unknown node, a singular mass, a planar call on a spatial model)."""
+
+import numpy as np
+import pytest
+
+from periodyn import InputError
+from periodyn.model import Model
+from periodyn.model.spatial import euler_parameters, rotation_of
+
+
+def _spatial():
+    m = Model("s", dimension=3)
+    m.add_orientation("ground")
+    m.fix("ground")
+    m.add_orientation("shaft")
+    return m
+
+
+def test_coordinates_and_reference_rotation():
+    m = Model("s", dimension=3)
+    m.add_point("P", (1.0, 2.0, 3.0))
+    R = rotation_of(np.array([0.2, -0.5, 0.7, 0.1]) / np.linalg.norm([0.2, -0.5, 0.7, 0.1]))
+    m.add_orientation("B", rotation=R)
+    m.fix("P")
+    m.fix("B")
+    c = m.compile()
+    assert c.coordinate_names == ("P.x", "P.y", "P.z", "B.l0", "B.l1", "B.l2", "B.l3")
+    assert c.mode_names == ("B.normalization",) and c.dimension == 3
+    np.testing.assert_allclose(rotation_of(c.x_reference[3:]), R, atol=1e-14)
+    np.testing.assert_allclose(euler_parameters(rotation_of([0.0, 0.6, 0.0, 0.8])), [0.0, 0.6, 0.0, 0.8], atol=1e-15)
+    # fixing an orientation fixes all Euler parameters but its largest; the normalization does the rest
+    assert sum("fixed coordinate 'B." in label for label in c.constraint_labels) == 3
+
+
+def test_zero_length_axis_names_the_fix():
+    m = _spatial()
+    with pytest.raises(InputError, match="axis must be a finite non-zero 3-vector"):
+        m.add_hinge("h", ("ground", "shaft"), axis=(0, 0, 0))
+    with pytest.raises(InputError, match="axis must be a finite non-zero 3-vector"):
+        m.add_hinge("h", ("ground", "shaft"))
+    m.add_orientation("other")
+    with pytest.raises(InputError, match="perpendicular"):
+        m.add_universal_joint("u", ("shaft", "other"), axes=[(1, 0, 0), (1, 1, 0)])
+
+
+def test_unknown_nodes_name_the_fix():
+    m = _spatial()
+    with pytest.raises(InputError, match="unknown orientation node 'nowhere'; add it with add_orientation"):
+        m.add_hinge("h", ("ground", "nowhere"), axis=(1, 0, 0))
+    with pytest.raises(InputError, match="unknown orientation node"):
+        m.add_rigid_body("nowhere", np.eye(3))
+    with pytest.raises(InputError, match="unknown point node"):
+        m.add_rigid_link("l", ("A", "B"), "shaft")
+    with pytest.raises(InputError, match="unknown orientation node"):
+        m.add_universal_joint("u", ("shaft", "nowhere"), axes=[(0, 1, 0), (0, 0, 1)])
+
+
+def test_singular_mass_names_the_dynamic_coordinates():
+    m = _spatial()
+    m.add_hinge("h", ("ground", "shaft"), axis=(1, 0, 0))
+    m.make_dynamic("shaft.l1")  # the rotation about the axis: no inertia on the shaft
+    with pytest.raises(InputError, match=r"singular mass matrix.*\['shaft.l1'\].*add_rigid_body"):
+        m.compile()
+    m.add_rigid_body("shaft", np.diag([0.0, 1.0, 1.0]))  # no inertia about the hinge axis either
+    with pytest.raises(InputError, match="singular mass matrix"):
+        m.compile()
+    m.add_rigid_body("shaft", np.diag([0.5, 0.0, 0.0]))
+    assert m.compile().n_dynamic == 1
+
+
+def test_planar_and_spatial_calls_do_not_mix():
+    m = _spatial()
+    with pytest.raises(InputError, match="3-D position"):
+        m.add_point("P", (0.0, 1.0))
+    with pytest.raises(InputError, match="planar"):
+        m.add_angle("phi")
+    with pytest.raises(InputError, match="3-vector"):
+        m.set_gravity((0.0, -9.81))
+    with pytest.raises(InputError, match="spatial"):
+        Model("p").add_orientation("R")
+    with pytest.raises(InputError, match="dimension must be 2"):
+        Model("q", dimension=4)
+    with pytest.raises(InputError, match="rotation must be Euler parameters"):
+        m.add_orientation("bad", rotation=np.diag([1.0, 1.0, -1.0]))
