@@ -83,3 +83,23 @@ def test_planar_and_spatial_calls_do_not_mix():
         Model("q", dimension=4)
     with pytest.raises(InputError, match="rotation must be Euler parameters"):
         m.add_orientation("bad", rotation=np.diag([1.0, 1.0, -1.0]))
+
+
+def test_hinge_torque_accelerates_a_shaft_by_torque_over_inertia():
+    """A shaft on a free hinge about x with a resisting torque T: J theta'' = -T, so at rest
+    lam_1'' = theta'' / 2 = -T / (2 J) makes the reduced residual vanish; at theta = 1 rad,
+    theta' = 3 rad/s the rates follow lam = (cos(theta/2), sin(theta/2), 0, 0)."""
+    from periodyn.linearize import reduced_residual
+    J, T = 0.7, 2.5
+    m = _spatial()
+    m.add_hinge("h", ("ground", "shaft"), axis=(1, 0, 0), torque=T, damping=0.4)
+    m.add_rigid_body("shaft", np.diag([J, 2.0, 3.0]))
+    m.make_dynamic("shaft.l1")
+    model = m.compile()
+    np.testing.assert_allclose(reduced_residual(model, 0.0, [0.0], [0.0], [-T / (2 * J)], 0.0), 0, atol=1e-12)
+    th, w = 1.0, 3.0
+    acc = -(T + 0.4 * w) / J
+    lam1 = np.sin(th / 2)
+    lam1_dot = 0.5 * np.cos(th / 2) * w
+    lam1_ddot = 0.5 * np.cos(th / 2) * acc - 0.25 * np.sin(th / 2) * w**2
+    np.testing.assert_allclose(reduced_residual(model, 0.0, [lam1], [lam1_dot], [lam1_ddot], 0.0), 0, atol=1e-11)

@@ -37,12 +37,12 @@ class SpatialBuilder:
         self.orientations[name] = tuple(float(v) for v in lam)
         return name
 
-    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping):
+    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping, torque=0.0):
         for o in orientations:
             self._check_node(o, self.orientations, f"hinge '{name}'")
         st = mode_statuses(name, {"rotation": mode}, SpatialHinge.mode_names)
         return self._add(SpatialHinge(name, tuple(orientations), tuple(unit_axis(f"hinge '{name}'", axis)), st,
-                                      float(stiffness), float(damping)))
+                                      float(stiffness), float(damping), float(torque)))
 
     def add_universal_joint(self, name: str, orientations: tuple[str, str], axes, *, cross: str | None = None,
                             rotation=None) -> tuple[str, str, str]:
