@@ -4,7 +4,8 @@ from .elements import (FLEXIBLE, FREE, RIGID, IndependentElement, MidpointDeflec
                        PlanarHinge, PlanarTruss)
 from .model import CompiledModel, Model
 from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
+from .spatial_beam import BeamSection, SpatialBeam
 
 __all__ = ["Model", "CompiledModel", "PlanarBeam", "PlanarTruss", "PlanarHinge", "MidpointDeflection",
            "IndependentElement", "RIGID", "FLEXIBLE", "FREE",
-           "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap"]
+           "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap", "BeamSection", "SpatialBeam"]

@@ -150,7 +150,9 @@ class Model(SpatialBuilder):
                  kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
         """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
         a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
-        self._require_dimension(2, "add_beam")
+        if self.dimension == 3:
+            raise InputError(f"beam '{name}': model '{self.name}' is spatial; use add_spatial_beam(name, points, "
+                             "orientations, section, ...) for a spatial beam")
         st = mode_statuses(name, modes, PlanarBeam.mode_names)
         return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
                                     float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))

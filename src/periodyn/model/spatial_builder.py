@@ -1,5 +1,6 @@
 """Builder methods of :class:`periodyn.model.Model` for spatial models
-(``Model(name, dimension=3)``): orientation nodes, universal joints and rigid bodies.
+(``Model(name, dimension=3)``): orientation nodes, spatial beams, universal joints and rigid
+bodies.
 Trusses and hinges of a spatial model come from ``Model.add_truss`` / ``Model.add_hinge``."""
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from ..errors import InputError
 from .elements import FREE, mode_statuses
 from .spatial import (EulerNormalization, RigidBody, RigidLink, SpatialHinge, euler_parameters, orientation_coordinates,
                       unit_axis)
+from .spatial_beam import BeamSection, SpatialBeam
 
 
 class SpatialBuilder:
@@ -66,6 +68,24 @@ class SpatialBuilder:
         hp = self._spatial_hinge(f"{name}_p", (orientations[0], cross), ap, FREE, 0.0, 0.0)
         hq = self._spatial_hinge(f"{name}_q", (cross, orientations[1]), aq, FREE, 0.0, 0.0)
         return hp, hq, cross
+
+    def add_spatial_beam(self, name: str, points: tuple[str, str], orientations: tuple[str, str],
+                         section: BeamSection, *, modes=None, y_axis=(0.0, 1.0, 0.0), lumped_rotary: bool = False,
+                         kelvin_voigt: float = 0.0) -> str:
+        """Spatial beam between points (p, q) carrying orientation nodes (R_p, R_q);
+        modes: statuses for (elongation, torsion, bending_z_p, bending_z_q, bending_y_p,
+        bending_y_q) as a tuple, a dict by mode name or one string (default all rigid);
+        section: :class:`BeamSection`; y_axis: reference direction of the sections' y axis.
+        See :class:`periodyn.model.spatial_beam.SpatialBeam`."""
+        self._require_dimension(3, "add_spatial_beam")
+        for p in points:
+            self._check_node(p, self.points, f"spatial beam '{name}'")
+        for o in orientations:
+            self._check_node(o, self.orientations, f"spatial beam '{name}'")
+        st = mode_statuses(name, modes, SpatialBeam.mode_names)
+        return self._add(SpatialBeam(name, tuple(points), tuple(orientations), st, section,
+                                     tuple(float(v) for v in np.ravel(y_axis)), bool(lumped_rotary),
+                                     float(kelvin_voigt)))
 
     def add_rigid_link(self, name: str, points: tuple[str, str], orientation: str) -> str:
         """Carry point ``points[1]`` rigidly with point ``points[0]`` and orientation node
