@@ -2,7 +2,8 @@
 parameters, linearization): the slider-crank of Schwab & Meijaard 2001 (section 4.2) built
 from spatial beams reproduces the planar model's linearized equations, and a pinned shaft
 built in a spatial model reproduces the frequencies of the element matrices assembled by
-hand (tests/verification/test_spatial_beam_frequencies.py) and of beam theory."""
+hand (tests/verification/test_spatial_beam_frequencies.py) and of beam theory, and spinning
+it whirls like a gyroscopic Rayleigh beam."""
 
 import numpy as np
 import pytest
@@ -105,3 +106,58 @@ def test_spatial_beam_needs_a_spatial_model():
     spatial.add_point("p", (0, 0, 0))
     with pytest.raises(InputError):
         spatial.add_spatial_beam("b", ("p", "missing"), ("Rp", "Rq"), BeamSection())
+
+
+def spinning_shaft(n_el):
+    """The pinned shaft driven about its axis at constant speed through a universal joint
+    at zero misalignment (a pin that transmits the spin); far end pinned, free to slide."""
+    m = Model("spinning_shaft", dimension=3)
+    m.add_orientation("ground")
+    m.fix("ground")
+    m.add_orientation("drive")
+    m.add_hinge("motor", ("ground", "drive"), axis=(1, 0, 0))
+    m.prescribe("motor.rotation", rate=1.0)
+    section = BeamSection.solid_circular(RADIUS, E_MOD, NU, RHO)
+    for i in range(n_el + 1):
+        m.add_point(f"P{i}", (i * L / n_el, 0.0, 0.0))
+        m.add_orientation(f"R{i}")
+    m.add_universal_joint("support", ("drive", "R0"), axes=[(0, 1, 0), (0, 0, 1)])
+    flexible = {mode: "flexible" for mode in ("torsion", "bending_z_p", "bending_z_q", "bending_y_p", "bending_y_q")}
+    for i in range(n_el):
+        m.add_spatial_beam(f"shaft{i}", (f"P{i}", f"P{i + 1}"), (f"R{i}", f"R{i + 1}"), section, modes=flexible)
+    m.fix("P0")
+    m.fix(f"P{n_el}.y")
+    m.fix(f"P{n_el}.z")
+    return m.compile()
+
+
+def test_spinning_shaft_whirls_like_a_gyroscopic_rayleigh_beam():
+    """Linearized about the spin Omega, the equations in the beam's (co-rotating) modes are
+    constant, and the first bending pair's frequencies are the simply supported spinning
+    Rayleigh beam's whirl speeds seen from the rotating frame: forward w_f - Omega and
+    backward w_b + Omega, with (rhoA + rhoI k^2) w^2 -/+ rhoJ k^2 Omega w - EI k^4 = 0,
+    k = pi / L (gyroscopic, Coriolis and centrifugal terms of the beam's inertia)."""
+    spin = 300.0
+    sec = BeamSection.solid_circular(RADIUS, E_MOD, NU, RHO)
+    k = np.pi / L
+    a, g, s = sec.mass_per_length + sec.rotary_inertia_z * k**2, sec.polar_inertia * k**2 * spin, sec.EI_z * k**4
+    forward = (g + np.sqrt(g**2 + 4 * a * s)) / (2 * a)
+    backward = (-g + np.sqrt(g**2 + 4 * a * s)) / (2 * a)
+    expected = np.array([forward - spin, backward + spin])
+    errors = []
+    for n_el in (4, 8):
+        model = spinning_shaft(n_el)
+        lin = linearize(model, spin, 4)
+        for name in ("mass", "damping", "stiffness"):
+            sample = getattr(lin, name)
+            np.testing.assert_allclose(sample, np.broadcast_to(sample[0], sample.shape), rtol=0,
+                                       atol=1e-9 * np.abs(sample).max(), err_msg=name)
+        M, C, K = lin.mass[0], lin.damping[0], lin.stiffness[0]
+        n = M.shape[0]
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+        lam = np.linalg.eigvals(A)
+        assert np.abs(lam.real).max() < 1e-6 * np.abs(lam).max()   # undamped, gyroscopic: no decay
+        w = np.sort(lam.imag[lam.imag > 1.0])
+        got = np.array([w[np.argmin(np.abs(w - e))] for e in expected])
+        errors.append(np.abs(got / expected - 1).max())
+    assert errors[1] < errors[0] and errors[1] < 3e-5
