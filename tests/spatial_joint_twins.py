@@ -68,7 +68,7 @@ def complex_step(fun, x, h=1e-30):
 def rigid_body_twin(lam, v, a, J):
     """M, r of T = 1/2 Omega^T J Omega, Omega = 2 G(lam) lam', from Lagrange's equations
     written with explicit matrices: r = d/dt(dT/dlam') - dT/dlam."""
-    G, Gv, Ga = g_twin(lam), g_twin(v), g_twin(a)
+    G, Gv = g_twin(lam), g_twin(v)
     M = 4 * G.T @ J @ G
     Om = 2 * G @ v
     # d/dt (2 G^T J Omega) = 2 Gv^T J Omega + 2 G^T J (2 Gv v + 2 G a); dT/dlam = 2 (d(G v)/dlam)^T J Omega

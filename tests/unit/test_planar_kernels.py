@@ -159,15 +159,16 @@ def test_elastic_matches_twin_and_derivatives():
     S[1:, 1:] = 30 * np.array([[4, 2], [2, 4.0]])
     S[0, 0] = 500.0
     Sd = 1e-3 * S
+    s0 = np.array([2.0, -0.3, 0.1])  # constant stresses (an axial preload, end moments)
 
     def kernel(x, v):
         D, Dx, Dxx, _ = _kernel_deformation(planar_beam.deformation, x, par, 3, 6)
         r, C, K = np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))
-        elastic.add_elastic(3, 6, D, Dx, Dxx, v, S, Sd, r, C, K)
+        elastic.add_elastic(3, 6, D, Dx, Dxx, v, S, Sd, s0, r, C, K)
         return r, C, K, (D, Dx, Dxx)
 
     r, C, K, (D, Dx, Dxx) = kernel(xe, ve)
-    for g, t in zip((r, C, K), elastic_twin(D, Dx, Dxx, ve, S, Sd)):
+    for g, t in zip((r, C, K), elastic_twin(D, Dx, Dxx, ve, S, Sd, s0)):
         np.testing.assert_allclose(g, t, atol=1e-13 * max(1, np.abs(t).max()))
     np.testing.assert_allclose(_fd(lambda v: kernel(xe, v)[0], ve, 1e-4), C, atol=1e-9)
     np.testing.assert_allclose(_fd(lambda x: kernel(x, ve)[0], xe, 1e-7), K, rtol=1e-6, atol=1e-5)

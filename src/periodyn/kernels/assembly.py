@@ -32,6 +32,7 @@ ModelArrays = namedtuple("ModelArrays", [
     "nmode",        # (ne,) int64
     "stiffness",    # (ne, n_mode, n_mode) Kelvin-Voigt S (flexible/free modes only)
     "damping",      # (ne, n_mode, n_mode) Kelvin-Voigt S_d, s * S units
+    "stress0",      # (ne, n_mode) constant stress sigma_0 of free/flexible modes (N, N m)
     "ipar",         # (ne, n_ipar) float inertia parameters, layout per family module, zero padded
     "gravity",      # (dim,) m/s^2
     "mode_row",     # (n_modes,) int64 constraint row or -1 (free mode)
@@ -307,7 +308,8 @@ def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
             rigid_body.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         elif fam == FAMILY_SPATIAL_BEAM:
             spatial_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
-        add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], re, Ce, Ke)
+        add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], arr.stress0[e],
+                    re, Ce, Ke)
         for i in range(nd):
             gi = arr.dofs[e, i]
             r[gi] += re[i]

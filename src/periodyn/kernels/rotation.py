@@ -8,7 +8,6 @@ G is linear in lam, ``G(lam) lam = 0`` and ``G(a) b = -G(b) a``.
 The quaternion product ``a * b`` composes rotations: ``R(a * b) = R(a) R(b)``.
 """
 
-import numpy as np
 from numba import njit
 
 

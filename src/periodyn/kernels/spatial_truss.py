@@ -9,8 +9,10 @@ import numpy as np
 from numba import njit
 
 from . import jets
-from .planar_truss import inertia  # noqa: F401  (the family's inertia kernel)
+from .planar_truss import inertia
 from .spatial_joints import store
+
+__all__ = ["deformation", "inertia"]
 
 
 @njit(cache=True)

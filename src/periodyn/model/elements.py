@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels import planar_beam, planar_truss
+from ..kernels import planar_beam
 from ..kernels.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS
 
 RIGID, FLEXIBLE, FREE, PRESCRIBED = "rigid", "flexible", "free", "prescribed"
@@ -155,13 +155,15 @@ class PlanarTruss:
 @dataclass(frozen=True)
 class PlanarHinge:
     """Planar hinge: relative rotation phi_q - phi_p of two angles (rad); rotational
-    stiffness (N m/rad) and viscous damping (N m s/rad)."""
+    stiffness (N m/rad), viscous damping (N m s/rad) and a constant moment ``torque``
+    (N m) resisting positive rotation."""
 
     name: str
     angles: tuple[str, str]
     modes: tuple[str]
     rotational_stiffness: float = 0.0
     rotational_damping: float = 0.0
+    torque: float = 0.0
 
     family = FAMILY_PLANAR_HINGE
     mode_names = ("rotation",)
@@ -177,6 +179,9 @@ class PlanarHinge:
 
     def damping_matrix(self, l0: float) -> np.ndarray:
         return np.array([[self.rotational_damping]])
+
+    def constant_stress(self) -> np.ndarray:
+        return np.array([self.torque])
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
         """A hinge has no inertia of its own."""

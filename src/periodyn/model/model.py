@@ -19,9 +19,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..kernels.assembly import ModelArrays
-from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation, check_scale
+from .output_builder import OutputBuilder
+from .outputs import OutputMap
 from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
-                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
+                       PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
 from .spatial import SpatialTruss, orientation_coordinates
 from .spatial_builder import SpatialBuilder
 
@@ -74,7 +75,7 @@ class CompiledModel:
 
 
 @dataclass
-class Model(SpatialBuilder):
+class Model(SpatialBuilder, OutputBuilder):
     """Builder of a planar (dimension 2) or spatial (dimension 3) flexible multibody
     model (SI units).
 
@@ -165,15 +166,19 @@ class Model(SpatialBuilder):
         return self._add(family(name, tuple(points), st, float(EA), float(mass_per_length), float(kelvin_voigt)))
 
     def add_hinge(self, name: str, angles: tuple[str, str], *, mode: str = FREE, stiffness: float = 0.0,
-                  damping: float = 0.0, axis=None) -> str:
+                  damping: float = 0.0, axis=None, torque: float = 0.0, misalignment: str = RIGID) -> str:
         """Hinge between two angle nodes (planar) or two orientation nodes about ``axis``
         (3,) in the reference configuration (spatial; its misalignments are rigid); mode:
         status of the relative rotation (default free: follows from the kinematics, with
-        its spring/damper; prescribe ``"<name>.rotation"`` to drive it)."""
+        its spring/damper; prescribe ``"<name>.rotation"`` to drive it). torque (N m): a
+        constant moment the free/flexible rotation carries besides its spring and damper,
+        resisting positive rotation (e.g. a load torque on an output shaft). misalignment
+        (spatial): status of the two misalignment modes, rigid for a joint, free for a hinge
+        that only measures a relative rotation (a twist output)."""
         if self.dimension == 3:
-            return self._spatial_hinge(name, angles, axis, mode, stiffness, damping)
+            return self._spatial_hinge(name, angles, axis, mode, stiffness, damping, torque, misalignment)
         st = mode_statuses(name, (mode,), PlanarHinge.mode_names)
-        return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping)))
+        return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping), float(torque)))
 
     # ------------------------------------------------------------------ masses and loads
     def add_mass(self, point: str, mass: float) -> None:
@@ -237,38 +242,6 @@ class Model(SpatialBuilder):
             return
         self._check_coordinate(coordinate, "make_dynamic")
         self.dynamic.append(coordinate)
-
-    def add_midpoint_deflection(self, name: str, ends: tuple[str, str], mid: str, reference_length: float) -> None:
-        """Output: distance of ``mid`` from the line through ``ends`` over reference_length."""
-        for p in (*ends, mid):
-            self._check_node(p, self.points, f"output '{name}'")
-        if not reference_length > 0:
-            raise InputError(f"output '{name}': reference_length must be positive, got {reference_length!r}")
-        self._add_output(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
-
-    def add_coordinate_output(self, name: str, coordinate: str, scale: float = 1.0) -> None:
-        """Output: a nodal coordinate (``"<point>.x"``, an angle) divided by ``scale``."""
-        self._check_coordinate(coordinate, f"output '{name}'")
-        self._add_output(CoordinateOutput(name, coordinate, check_scale(name, scale)))
-
-    def add_relative_rotation(self, name: str, angles: tuple[str, str]) -> None:
-        """Output: rotation of angle node ``angles[1]`` relative to ``angles[0]`` (rad)."""
-        for a in angles:
-            self._check_node(a, self.angles, f"output '{name}'")
-        self._add_output(RelativeRotation(name, tuple(angles)))
-
-    def add_mode_output(self, name: str, mode: str, scale: float = 1.0) -> None:
-        """Output: a deformation mode ``"<element>.<mode>"`` divided by ``scale``."""
-        if mode.count(".") != 1 or mode.split(".")[0] not in {e.name for e in self.elements}:
-            raise InputError(f"output '{name}': '{mode}' is not a mode '<element>.<mode>' of an existing element")
-        element, index = self._mode(mode)
-        self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
-                                    check_scale(name, scale)))
-
-    def _add_output(self, output) -> None:
-        if any(o.name == output.name for o in self.outputs):
-            raise InputError(f"output '{output.name}' is defined twice; output names must be unique")
-        self.outputs.append(output)
 
     def add_independent(self, element: IndependentElement) -> None:
         """An independently modelled element (eq. 11-12), added to the linearized equations."""
@@ -394,6 +367,7 @@ class Model(SpatialBuilder):
         nmode = np.zeros(ne, dtype=np.int64)
         stiff = np.zeros((ne, w_mode, w_mode))
         damp = np.zeros((ne, w_mode, w_mode))
+        stress0 = np.zeros((ne, w_mode))
         k0 = 0
         for e, el in enumerate(elements):
             loc = [index[c] for c in el.coordinates()]
@@ -412,6 +386,7 @@ class Model(SpatialBuilder):
             mask = np.outer(constitutive, constitutive)
             stiff[e, :nm, :nm] = el.stiffness_matrix(l0) * mask
             damp[e, :nm, :nm] = el.damping_matrix(l0) * mask
+            stress0[e, :nm] = getattr(el, "constant_stress", lambda: np.zeros(nm))() * constitutive
             k0 += nm
 
         nodal_mass = np.zeros(n_x)
@@ -425,12 +400,13 @@ class Model(SpatialBuilder):
         for c, f in self.loads.items():
             nodal_force[index[c]] += f
 
-        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, ipar,
+        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, stress0, ipar,
                              np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
                              len(input_names), nodal_mass, nodal_force)
         outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
                                   getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
-                                  getattr(o, "index", -1)) for o in self.outputs)
+                                  getattr(o, "index", -1), None if o.kind != "body_component"
+                                  else np.array(o.direction)) for o in self.outputs)
         independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
         compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                                  np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),

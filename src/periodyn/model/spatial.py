@@ -18,6 +18,7 @@ from ..errors import InputError
 from ..kernels.layout import (FAMILY_EULER_NORMALIZATION, FAMILY_RIGID_BODY, FAMILY_RIGID_LINK,
                               FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
 from ..kernels.rotation import product, rotation_matrix
+from .elements import PlanarTruss
 
 __all__ = ["EulerNormalization", "SpatialTruss", "SpatialHinge", "RigidBody", "RigidLink", "euler_parameters", "axis_angle",
            "orientation_coordinates"]
@@ -73,7 +74,7 @@ def unit_axis(what: str, axis) -> np.ndarray:
     a = np.asarray(axis, dtype=float)
     if a.shape != (3,) or not np.all(np.isfinite(a)) or not np.linalg.norm(a) > 1e-12:
         raise InputError(f"{what}: the axis must be a finite non-zero 3-vector (x, y, z), got {axis!r}; "
-                         "give the direction of the joint axis in the reference configuration")
+                         "give its direction (any length but zero)")
     return a / np.linalg.norm(a)
 
 
@@ -104,37 +105,17 @@ class EulerNormalization:
 
 
 @dataclass(frozen=True)
-class SpatialTruss:
+class SpatialTruss(PlanarTruss):
     """Spatial truss (bar) between points (p, q); one mode, elongation (m). EA (N),
-    mass_per_length (kg/m), kelvin_voigt beta (s)."""
-
-    name: str
-    points: tuple[str, str]
-    modes: tuple[str]
-    EA: float = 0.0
-    mass_per_length: float = 0.0
-    kelvin_voigt: float = 0.0
+    mass_per_length (kg/m), kelvin_voigt beta (s); the planar truss's data and inertia."""
 
     family = FAMILY_SPATIAL_TRUSS
-    mode_names = ("elongation",)
-    has_length = True
 
     def coordinates(self) -> list[str]:
         return [f"{p}.{c}" for p in self.points for c in "xyz"]
 
     def parameters(self, x_ref: np.ndarray) -> np.ndarray:
         return np.array([float(np.linalg.norm(x_ref[3:6] - x_ref[0:3]))])
-
-    def stiffness_matrix(self, l0: float) -> np.ndarray:
-        return np.array([[self.EA / l0]])
-
-    def damping_matrix(self, l0: float) -> np.ndarray:
-        return self.kelvin_voigt * self.stiffness_matrix(l0)
-
-    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        """[mass (2x2), weights (2,)] of the linearly interpolated bar, kg."""
-        m = self.mass_per_length * par[0]
-        return m * np.array([1 / 3, 1 / 6, 1 / 6, 1 / 3, 1 / 2, 1 / 2])
 
 
 @dataclass(frozen=True)
@@ -144,7 +125,8 @@ class SpatialHinge:
     misalignment_3) in rad: the rotation of q relative to p about the axis and two small
     rotations about axes normal to it (see :mod:`periodyn.kernels.spatial_joints`).
     rotational_stiffness (N m/rad) and rotational_damping (N m s/rad) act on the rotation
-    when it is free or flexible."""
+    when it is free or flexible, with a constant moment ``torque`` (N m) resisting
+    positive rotation."""
 
     name: str
     orientations: tuple[str, str]
@@ -152,6 +134,7 @@ class SpatialHinge:
     modes: tuple[str, str, str]
     rotational_stiffness: float = 0.0
     rotational_damping: float = 0.0
+    torque: float = 0.0
 
     family = FAMILY_SPATIAL_HINGE
     mode_names = ("rotation", "misalignment_2", "misalignment_3")
@@ -176,6 +159,9 @@ class SpatialHinge:
 
     def damping_matrix(self, l0: float) -> np.ndarray:
         return np.diag([self.rotational_damping, 0.0, 0.0])
+
+    def constant_stress(self) -> np.ndarray:
+        return np.array([self.torque, 0.0, 0.0])
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
         return np.zeros(0)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .elements import FREE, mode_statuses
+from .elements import FREE, RIGID, mode_statuses
 from .spatial import (EulerNormalization, RigidBody, RigidLink, SpatialHinge, euler_parameters, orientation_coordinates,
                       unit_axis)
 from .spatial_beam import BeamSection, SpatialBeam
@@ -39,12 +39,12 @@ class SpatialBuilder:
         self.orientations[name] = tuple(float(v) for v in lam)
         return name
 
-    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping):
+    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping, torque=0.0, misalignment=RIGID):
         for o in orientations:
             self._check_node(o, self.orientations, f"hinge '{name}'")
-        st = mode_statuses(name, {"rotation": mode}, SpatialHinge.mode_names)
+        st = mode_statuses(name, (mode, misalignment, misalignment), SpatialHinge.mode_names)
         return self._add(SpatialHinge(name, tuple(orientations), tuple(unit_axis(f"hinge '{name}'", axis)), st,
-                                      float(stiffness), float(damping)))
+                                      float(stiffness), float(damping), float(torque)))
 
     def add_universal_joint(self, name: str, orientations: tuple[str, str], axes, *, cross: str | None = None,
                             rotation=None) -> tuple[str, str, str]:
