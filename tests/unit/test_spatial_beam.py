@@ -266,6 +266,16 @@ def test_spatial_beam_data_and_errors():
     np.testing.assert_allclose(np.diag(S), [1.5, 1.0, 14.0, 14.0, 10.0, 10.0])
     assert S[2, 3] == 7.0 and S[4, 5] == 5.0 and S[0, 1] == 0.0
     np.testing.assert_allclose(beam.damping_matrix(2.0), 0.01 * S)
+    per_mode = SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section,
+                           kelvin_voigt=(0.0, 0.02, 0.01, 0.01, 0.03, 0.03))
+    Sd = per_mode.damping_matrix(2.0)
+    np.testing.assert_allclose(Sd, Sd.T)
+    np.testing.assert_allclose(np.diag(Sd), [0.0, 0.02, 0.14, 0.14, 0.3, 0.3])
+    with pytest.raises(InputError, match="bending pair"):
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section,
+                    kelvin_voigt=(0.0, 0.02, 0.01, 0.02, 0.03, 0.03))
+    with pytest.raises(InputError, match="one per mode"):
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section, kelvin_voigt=(0.1, 0.2))
     assert beam.coordinates() == ["p.x", "p.y", "p.z", "Rp.l0", "Rp.l1", "Rp.l2", "Rp.l3",
                                   "q.x", "q.y", "q.z", "Rq.l0", "Rq.l1", "Rq.l2", "Rq.l3"]
     ident = np.array([1.0, 0, 0, 0])

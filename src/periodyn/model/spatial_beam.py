@@ -99,7 +99,8 @@ class SpatialBeam:
     relative to the chord (rad); statuses as for every element. section: BeamSection;
     y_axis: reference direction of the sections' y axis (3,) (its part normal to the
     beam); lumped_rotary: the sections' rotary inertia lumped at the nodes (else
-    consistent); kelvin_voigt beta (s), S_d = beta S."""
+    consistent); kelvin_voigt: Kelvin-Voigt time constants beta (s), one for all modes or
+    one per mode (6, equal within each bending pair), ``S_d = diag(beta) S``."""
 
     name: str
     points: tuple[str, str]
@@ -108,7 +109,7 @@ class SpatialBeam:
     section: BeamSection
     y_axis: tuple[float, float, float] = (0.0, 1.0, 0.0)
     lumped_rotary: bool = False
-    kelvin_voigt: float = 0.0
+    kelvin_voigt: float | tuple[float, ...] = 0.0
 
     family = FAMILY_SPATIAL_BEAM
     mode_names = MODE_NAMES
@@ -118,8 +119,13 @@ class SpatialBeam:
             raise InputError(f"spatial beam '{self.name}': section must be a BeamSection, got {self.section!r}")
         if np.shape(self.y_axis) != (3,) or not np.all(np.isfinite(self.y_axis)):
             raise InputError(f"spatial beam '{self.name}': y_axis needs 3 finite components, got {self.y_axis!r}")
-        if not (np.isfinite(self.kelvin_voigt) and self.kelvin_voigt >= 0):
-            raise InputError(f"spatial beam '{self.name}': kelvin_voigt = {self.kelvin_voigt!r} must be >= 0 (s)")
+        beta = self._time_constants()
+        if beta.shape != (6,) or not (np.all(np.isfinite(beta)) and np.all(beta >= 0)):
+            raise InputError(f"spatial beam '{self.name}': kelvin_voigt = {self.kelvin_voigt!r} must be one time "
+                             "constant >= 0 (s) or six, one per mode")
+        if beta[2] != beta[3] or beta[4] != beta[5]:
+            raise InputError(f"spatial beam '{self.name}': the Kelvin-Voigt time constants of a bending pair "
+                             f"(modes {MODE_NAMES[2:4]} and {MODE_NAMES[4:6]}) must be equal, got {tuple(beta)}")
 
     def coordinates(self) -> list[str]:
         names = []
@@ -144,7 +150,11 @@ class SpatialBeam:
         return S
 
     def damping_matrix(self, l0: float) -> np.ndarray:
-        return self.kelvin_voigt * self.stiffness_matrix(l0)
+        return self._time_constants()[:, None] * self.stiffness_matrix(l0)
+
+    def _time_constants(self) -> np.ndarray:
+        beta = np.asarray(self.kelvin_voigt, dtype=float)
+        return np.full(6, float(beta)) if beta.ndim == 0 else beta
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
         """ipar (24,) of :func:`periodyn.kernels.spatial_beam.inertia`."""

@@ -71,11 +71,12 @@ class SpatialBuilder:
 
     def add_spatial_beam(self, name: str, points: tuple[str, str], orientations: tuple[str, str],
                          section: BeamSection, *, modes=None, y_axis=(0.0, 1.0, 0.0), lumped_rotary: bool = False,
-                         kelvin_voigt: float = 0.0) -> str:
+                         kelvin_voigt=0.0) -> str:
         """Spatial beam between points (p, q) carrying orientation nodes (R_p, R_q);
         modes: statuses for (elongation, torsion, bending_z_p, bending_z_q, bending_y_p,
         bending_y_q) as a tuple, a dict by mode name or one string (default all rigid);
-        section: :class:`BeamSection`; y_axis: reference direction of the sections' y axis.
+        section: :class:`BeamSection`; y_axis: reference direction of the sections' y axis;
+        kelvin_voigt: material damping time constant (s), one or one per mode.
         See :class:`periodyn.model.spatial_beam.SpatialBeam`."""
         self._require_dimension(3, "add_spatial_beam")
         for p in points:
@@ -85,7 +86,7 @@ class SpatialBuilder:
         st = mode_statuses(name, modes, SpatialBeam.mode_names)
         return self._add(SpatialBeam(name, tuple(points), tuple(orientations), st, section,
                                      tuple(float(v) for v in np.ravel(y_axis)), bool(lumped_rotary),
-                                     float(kelvin_voigt)))
+                                     kelvin_voigt if np.ndim(kelvin_voigt) == 0 else tuple(np.ravel(kelvin_voigt))))
 
     def add_rigid_link(self, name: str, points: tuple[str, str], orientation: str) -> str:
         """Carry point ``points[1]`` rigidly with point ``points[0]`` and orientation node
