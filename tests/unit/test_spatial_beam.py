@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 
 from periodyn.errors import InputError
 from periodyn.kernels import planar_beam, spatial_beam
-from periodyn.model.spatial_beam import SpatialBeam, beam_parameters, rotation_matrix, section_second_moments
+from periodyn.model.spatial_beam import BeamSection, SpatialBeam, beam_parameters, section_second_moments
 from tests.spatial_twins import SLOPES, _gauss, HERMITE, beam_deformation_twin, beam_inertia_twin
 
 RNG = np.random.default_rng(5)
@@ -19,6 +19,10 @@ GRAVITY = np.array([0.3, -9.81, 1.2])
 def quat(R):
     q = Rotation.from_matrix(R).as_quat()
     return np.r_[q[3], q[:3]]
+
+
+def rot(lam):
+    return Rotation.from_quat(np.r_[lam[1:], lam[0]]).as_matrix()
 
 
 def kernel_deformation(xe, par):
@@ -88,8 +92,8 @@ def test_rigid_motions_give_zero_deformation():
     for seed in range(3):
         R = Rotation.random(random_state=20 + seed).as_matrix()
         d = RNG.standard_normal(3)
-        moved = np.r_[R @ xe[0:3] + d, quat(R @ rotation_matrix(xe[3:7])), R @ xe[7:10] + d,
-                      quat(R @ rotation_matrix(xe[10:14]))]
+        moved = np.r_[R @ xe[0:3] + d, quat(R @ rot(xe[3:7])), R @ xe[7:10] + d,
+                      quat(R @ rot(xe[10:14]))]
         assert np.abs(kernel_deformation(moved, par)[0]).max() < 1e-14
 
 
@@ -256,12 +260,22 @@ def test_interpolation_integrals():
 
 # ----------------------------------------------------------------------------- model data
 def test_spatial_beam_data_and_errors():
-    beam = SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=3.0, GJ=2.0, EI_y=5.0, EI_z=7.0,
-                       kelvin_voigt=0.01)
+    beam = SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6,
+                       BeamSection(EA=3.0, GJ=2.0, EI_y=5.0, EI_z=7.0), kelvin_voigt=0.01)
     S = beam.stiffness_matrix(2.0)
     np.testing.assert_allclose(np.diag(S), [1.5, 1.0, 14.0, 14.0, 10.0, 10.0])
     assert S[2, 3] == 7.0 and S[4, 5] == 5.0 and S[0, 1] == 0.0
     np.testing.assert_allclose(beam.damping_matrix(2.0), 0.01 * S)
+    per_mode = SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section,
+                           kelvin_voigt=(0.0, 0.02, 0.01, 0.01, 0.03, 0.03))
+    Sd = per_mode.damping_matrix(2.0)
+    np.testing.assert_allclose(Sd, Sd.T)
+    np.testing.assert_allclose(np.diag(Sd), [0.0, 0.02, 0.14, 0.14, 0.3, 0.3])
+    with pytest.raises(InputError, match="bending pair"):
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section,
+                    kelvin_voigt=(0.0, 0.02, 0.01, 0.02, 0.03, 0.03))
+    with pytest.raises(InputError, match="one per mode"):
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, beam.section, kelvin_voigt=(0.1, 0.2))
     assert beam.coordinates() == ["p.x", "p.y", "p.z", "Rp.l0", "Rp.l1", "Rp.l2", "Rp.l3",
                                   "q.x", "q.y", "q.z", "Rq.l0", "Rq.l1", "Rq.l2", "Rq.l3"]
     ident = np.array([1.0, 0, 0, 0])
@@ -272,7 +286,14 @@ def test_spatial_beam_data_and_errors():
     with pytest.raises(InputError, match="unit norm"):
         beam_parameters(np.zeros(3), 2 * ident, np.ones(3), ident, (0, 1, 0))
     with pytest.raises(InputError, match="EA"):
-        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=-1.0)
+        BeamSection(EA=-1.0)
+    with pytest.raises(InputError, match="BeamSection"):
+        SpatialBeam("b", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, 3.0)
+    with pytest.raises(InputError, match="beam 'b': y_axis is zero"):
+        beam.parameters(np.r_[0, 0, 0, ident, 0, 1, 0, ident])   # the default y axis along the beam
+    circ = BeamSection.solid_circular(0.03, 210e9, 0.3, 7850.0)
+    assert circ.GJ == pytest.approx(210e9 / 2.6 * np.pi * 0.03**4 / 2)
+    assert circ.polar_inertia == pytest.approx(circ.rotary_inertia_y + circ.rotary_inertia_z)
 
 
 def _qmul(a, b):

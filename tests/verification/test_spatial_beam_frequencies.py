@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 from periodyn.kernels import spatial_beam
 from periodyn.kernels.vector_inertia import add_vector_inertia
 from periodyn.kernels import jets
-from periodyn.model.spatial_beam import SpatialBeam
+from periodyn.model.spatial_beam import BeamSection, SpatialBeam
 
 L, RADIUS, RHO, E_MOD, NU = 1.0, 0.03, 7850.0, 210e9, 0.3
 G_MOD = E_MOD / (2 * (1 + NU))
@@ -23,10 +23,8 @@ OMEGA_B = np.pi**2 * np.sqrt(E_MOD * I_AREA / (RHO * AREA * L**4))   # 765.71 ra
 
 
 def shaft(rotary: bool, lumped: bool) -> SpatialBeam:
-    return SpatialBeam("shaft", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, EA=E_MOD * AREA, GJ=G_MOD * J_AREA,
-                       EI_y=E_MOD * I_AREA, EI_z=E_MOD * I_AREA, mass_per_length=RHO * AREA,
-                       polar_inertia_per_length=RHO * J_AREA, rotary_inertia_y=RHO * I_AREA * rotary,
-                       rotary_inertia_z=RHO * I_AREA * rotary, lumped_rotary=lumped)
+    section = BeamSection.solid_circular(RADIUS, E_MOD, NU, RHO, rotary_inertia=rotary)
+    return SpatialBeam("shaft", ("p", "q"), ("Rp", "Rq"), ("flexible",) * 6, section, lumped_rotary=lumped)
 
 
 def assemble(beam: SpatialBeam, n_el: int, end_inertia: float = 0.0):

@@ -18,8 +18,9 @@ import numpy as np
 from numba import njit, prange
 
 from .layout import (FAMILY_EULER_NORMALIZATION, FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS,
-                     FAMILY_RIGID_BODY, FAMILY_RIGID_LINK, FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
-from . import planar_beam, planar_hinge, planar_truss, rigid_body, spatial_joints, spatial_truss
+                     FAMILY_RIGID_BODY, FAMILY_RIGID_LINK, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_HINGE,
+                     FAMILY_SPATIAL_TRUSS)
+from . import planar_beam, planar_hinge, planar_truss, rigid_body, spatial_beam, spatial_joints, spatial_truss
 from .elastic import add_elastic
 
 ModelArrays = namedtuple("ModelArrays", [
@@ -69,6 +70,8 @@ def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
             spatial_joints.hinge(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
         elif fam == FAMILY_RIGID_LINK:
             spatial_joints.rigid_link(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_SPATIAL_BEAM:
+            spatial_beam.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
 
 
 @njit(cache=True)
@@ -303,6 +306,8 @@ def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
             spatial_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         elif fam == FAMILY_RIGID_BODY:
             rigid_body.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
+        elif fam == FAMILY_SPATIAL_BEAM:
+            spatial_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], arr.stress0[e],
                     re, Ce, Ke)
         for i in range(nd):

@@ -17,9 +17,12 @@ once, so no spatial family has a reason to choose another strategy.
 Layout. A jet over n coordinates is one flat float64 array of ``size(n) = 1 + n + n^2 + n^3``
 entries: value, gradient (n,), Hessian (n,n), third derivatives (n,n,n), all C order;
 :func:`parts` returns the four views. Arrays of jets put the jet last (a 3-vector of jets
-is (3, size(n)), a 3x3 matrix (3, 3, size(n))). Every operation writes a caller-allocated
-``out``; unless a docstring says otherwise ``out`` may be one of the inputs (entries are
-written from the third order down, each reading only its own and lower orders).
+is (3, size(n)), a 3x3 matrix (3, 3, size(n))). The Hessian and third derivatives are
+symmetric in their indices; products and compositions compute each distinct third-order
+entry once and rely on that (build jets only with these operations). Every operation
+writes a caller-allocated ``out``; unless a docstring says otherwise ``out`` may be one of
+the inputs (entries are written from the third order down, each reading only its own and
+lower orders).
 """
 
 import numpy as np

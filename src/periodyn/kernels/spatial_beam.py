@@ -210,8 +210,9 @@ def inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
 
     ipar (24,) = [par (19), rhoA (kg/m), E_1, E_2, E_3 (kg m, second moments of mass per
     length about the section axes, ``E = tr(J)/2 - J`` of the sections' rotary inertias
-    J = (rhoJ, rhoI_y, rhoI_z)), lumped (1.0: rotary inertia lumped at the nodes,
-    0.0: consistent)]."""
+    J = (rhoJ, rhoI_y, rhoI_z); an E_k may be negative, e.g. E_1 = -rhoJ/2 when the bending
+    rotary inertias are dropped: only J must be non-negative), lumped (1.0: rotary inertia
+    lumped at the nodes, 0.0: consistent)]."""
     n = NDOF
     m = jets.size(n)
     l0 = ipar[0]

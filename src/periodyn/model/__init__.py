@@ -6,8 +6,10 @@ from .elements import (FLEXIBLE, FREE, RIGID, IndependentElement, MidpointDeflec
 from .model import CompiledModel, Model
 from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
 from .spatial import EulerNormalization, RigidBody, RigidLink, SpatialHinge, SpatialTruss
+from .spatial_beam import BeamSection, SpatialBeam
 
 __all__ = ["Model", "CompiledModel", "PlanarBeam", "PlanarTruss", "PlanarHinge", "MidpointDeflection",
            "IndependentElement", "RIGID", "FLEXIBLE", "FREE",
            "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap",
-           "EulerNormalization", "SpatialTruss", "SpatialHinge", "RigidLink", "RigidBody"]
+           "EulerNormalization", "SpatialTruss", "SpatialHinge", "RigidLink", "RigidBody", "BeamSection",
+           "SpatialBeam"]

@@ -151,7 +151,9 @@ class Model(SpatialBuilder, OutputBuilder):
                  kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
         """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
         a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
-        self._require_dimension(2, "add_beam")
+        if self.dimension == 3:
+            raise InputError(f"beam '{name}': model '{self.name}' is spatial; use add_spatial_beam(name, points, "
+                             "orientations, section, ...) for a spatial beam")
         st = mode_statuses(name, modes, PlanarBeam.mode_names)
         return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
                                     float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))
@@ -164,15 +166,17 @@ class Model(SpatialBuilder, OutputBuilder):
         return self._add(family(name, tuple(points), st, float(EA), float(mass_per_length), float(kelvin_voigt)))
 
     def add_hinge(self, name: str, angles: tuple[str, str], *, mode: str = FREE, stiffness: float = 0.0,
-                  damping: float = 0.0, axis=None, torque: float = 0.0) -> str:
+                  damping: float = 0.0, axis=None, torque: float = 0.0, misalignment: str = RIGID) -> str:
         """Hinge between two angle nodes (planar) or two orientation nodes about ``axis``
         (3,) in the reference configuration (spatial; its misalignments are rigid); mode:
         status of the relative rotation (default free: follows from the kinematics, with
         its spring/damper; prescribe ``"<name>.rotation"`` to drive it). torque (N m): a
         constant moment the free/flexible rotation carries besides its spring and damper,
-        resisting positive rotation (e.g. a load torque on an output shaft)."""
+        resisting positive rotation (e.g. a load torque on an output shaft). misalignment
+        (spatial): status of the two misalignment modes, rigid for a joint, free for a hinge
+        that only measures a relative rotation (a twist output)."""
         if self.dimension == 3:
-            return self._spatial_hinge(name, angles, axis, mode, stiffness, damping, torque)
+            return self._spatial_hinge(name, angles, axis, mode, stiffness, damping, torque, misalignment)
         st = mode_statuses(name, (mode,), PlanarHinge.mode_names)
         return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping), float(torque)))
 
@@ -401,7 +405,8 @@ class Model(SpatialBuilder, OutputBuilder):
                              len(input_names), nodal_mass, nodal_force)
         outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
                                   getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
-                                  getattr(o, "index", -1)) for o in self.outputs)
+                                  getattr(o, "index", -1), None if o.kind != "body_component"
+                                  else np.array(o.direction)) for o in self.outputs)
         independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
         compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                                  np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),

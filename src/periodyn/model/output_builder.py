@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from ..errors import InputError
 from .elements import MidpointDeflection
-from .outputs import CoordinateOutput, ModeOutput, RelativeRotation, check_scale
+from .outputs import BodyComponent, CoordinateOutput, ModeOutput, RelativeRotation, check_scale
+from .spatial import unit_axis
 
 
 class OutputBuilder:
@@ -43,6 +44,18 @@ class OutputBuilder:
         element, index = self._mode(mode)
         self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
                                     check_scale(name, scale)))
+
+    def add_body_component(self, name: str, points: tuple[str, str], orientation: str, direction,
+                           scale: float = 1.0) -> None:
+        """Output (spatial): ``direction . R^T (x_{points[1]} - x_{points[0]}) / scale`` with R the
+        rotation of ``orientation`` and direction (3,) in its body components (normalized),
+        e.g. the lateral midpoint deflection of a shaft in the frame of a co-rotating end."""
+        self._require_dimension(3, "add_body_component")
+        for p in points:
+            self._check_node(p, self.points, f"output '{name}'")
+        self._check_node(orientation, self.orientations, f"output '{name}'")
+        d = unit_axis(f"output '{name}'", direction)
+        self._add_output(BodyComponent(name, tuple(points), orientation, tuple(d), check_scale(name, scale)))
 
     def _add_output(self, output) -> None:
         if any(o.name == output.name for o in self.outputs):

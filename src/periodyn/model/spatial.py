@@ -74,7 +74,7 @@ def unit_axis(what: str, axis) -> np.ndarray:
     a = np.asarray(axis, dtype=float)
     if a.shape != (3,) or not np.all(np.isfinite(a)) or not np.linalg.norm(a) > 1e-12:
         raise InputError(f"{what}: the axis must be a finite non-zero 3-vector (x, y, z), got {axis!r}; "
-                         "give the direction of the joint axis in the reference configuration")
+                         "give its direction (any length but zero)")
     return a / np.linalg.norm(a)
 
 

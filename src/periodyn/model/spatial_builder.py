@@ -1,5 +1,6 @@
 """Builder methods of :class:`periodyn.model.Model` for spatial models
-(``Model(name, dimension=3)``): orientation nodes, universal joints and rigid bodies.
+(``Model(name, dimension=3)``): orientation nodes, spatial beams, universal joints and rigid
+bodies.
 Trusses and hinges of a spatial model come from ``Model.add_truss`` / ``Model.add_hinge``."""
 
 from __future__ import annotations
@@ -7,9 +8,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .elements import FREE, mode_statuses
+from .elements import FREE, RIGID, mode_statuses
 from .spatial import (EulerNormalization, RigidBody, RigidLink, SpatialHinge, euler_parameters, orientation_coordinates,
                       unit_axis)
+from .spatial_beam import BeamSection, SpatialBeam
 
 
 class SpatialBuilder:
@@ -37,10 +39,10 @@ class SpatialBuilder:
         self.orientations[name] = tuple(float(v) for v in lam)
         return name
 
-    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping, torque=0.0):
+    def _spatial_hinge(self, name, orientations, axis, mode, stiffness, damping, torque=0.0, misalignment=RIGID):
         for o in orientations:
             self._check_node(o, self.orientations, f"hinge '{name}'")
-        st = mode_statuses(name, {"rotation": mode}, SpatialHinge.mode_names)
+        st = mode_statuses(name, (mode, misalignment, misalignment), SpatialHinge.mode_names)
         return self._add(SpatialHinge(name, tuple(orientations), tuple(unit_axis(f"hinge '{name}'", axis)), st,
                                       float(stiffness), float(damping), float(torque)))
 
@@ -66,6 +68,25 @@ class SpatialBuilder:
         hp = self._spatial_hinge(f"{name}_p", (orientations[0], cross), ap, FREE, 0.0, 0.0)
         hq = self._spatial_hinge(f"{name}_q", (cross, orientations[1]), aq, FREE, 0.0, 0.0)
         return hp, hq, cross
+
+    def add_spatial_beam(self, name: str, points: tuple[str, str], orientations: tuple[str, str],
+                         section: BeamSection, *, modes=None, y_axis=(0.0, 1.0, 0.0), lumped_rotary: bool = False,
+                         kelvin_voigt=0.0) -> str:
+        """Spatial beam between points (p, q) carrying orientation nodes (R_p, R_q);
+        modes: statuses for (elongation, torsion, bending_z_p, bending_z_q, bending_y_p,
+        bending_y_q) as a tuple, a dict by mode name or one string (default all rigid);
+        section: :class:`BeamSection`; y_axis: reference direction of the sections' y axis;
+        kelvin_voigt: material damping time constant (s), one or one per mode.
+        See :class:`periodyn.model.spatial_beam.SpatialBeam`."""
+        self._require_dimension(3, "add_spatial_beam")
+        for p in points:
+            self._check_node(p, self.points, f"spatial beam '{name}'")
+        for o in orientations:
+            self._check_node(o, self.orientations, f"spatial beam '{name}'")
+        st = mode_statuses(name, modes, SpatialBeam.mode_names)
+        return self._add(SpatialBeam(name, tuple(points), tuple(orientations), st, section,
+                                     tuple(float(v) for v in np.ravel(y_axis)), bool(lumped_rotary),
+                                     kelvin_voigt if np.ndim(kelvin_voigt) == 0 else tuple(np.ravel(kelvin_voigt))))
 
     def add_rigid_link(self, name: str, points: tuple[str, str], orientation: str) -> str:
         """Carry point ``points[1]`` rigidly with point ``points[0]`` and orientation node
