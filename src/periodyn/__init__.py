@@ -29,6 +29,7 @@ _LAZY = {
     "shooting": "nonlinear",
     "load": "results",
     "campbell": "rotor",
+    "cardan_shaft": "examples",
     "sweep": "sweep",
     "OmegaSplitModel": "system", "RheoLinear": "system",
     "Transient": "transient", "transient": "transient",
