@@ -51,14 +51,12 @@ def _check(alpha, elements):
 
 def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, torsion_kelvin_voigt: float = 0.0,
                        output_torque: float = CARDAN["output_torque"], elements: int = 2,
-                       rotary_inertia: bool = True, shaft: str = "flexible"):
+                       rotary_inertia: bool = True):
     """The compiled element model; kelvin_voigt / torsion_kelvin_voigt: material damping
     time constants (s) of bending and torsion; elements: beam elements (even);
-    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper);
-    shaft: "flexible" (dynamic torsion and bending) or "rigid" (the rigid mechanism)."""
+    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper).
+    Torsion and bending of every element are dynamic, elongation rigid."""
     _check(alpha, elements)
-    if shaft not in ("flexible", "rigid"):
-        raise InputError(f"shaft must be 'flexible' or 'rigid', got {shaft!r}")
     L, ca, sa = CARDAN["length"], np.cos(alpha), np.sin(alpha)
     chord = np.array([ca, sa, 0.0])
     incline = axis_angle((0.0, 0.0, 1.0), alpha)           # body x onto the drive shaft
@@ -79,7 +77,7 @@ def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, t
     m.fix("P0")
     m.fix(f"{points[-1]}.y")
     m.fix(f"{points[-1]}.z")
-    modes = ("rigid",) + (shaft,) * 5
+    modes = ("rigid",) + ("flexible",) * 5
     for i in range(elements):
         m.add_spatial_beam(f"beam{i + 1}", (points[i], points[i + 1]), (nodes[i], nodes[i + 1]), section,
                            modes=modes, y_axis=(-sa, ca, 0.0), lumped_rotary=True,
