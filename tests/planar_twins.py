@@ -107,10 +107,11 @@ def truss_deformation_twin(xe, par):
     return np.array([l - par[0]]), L1[None], L2[None], L3[None]
 
 
-def elastic_twin(D, Dx, Dxx, ve, S, Sd):
-    """r = Dx^T sigma, C, K of the Kelvin-Voigt law (see periodyn.kernels.elastic)."""
+def elastic_twin(D, Dx, Dxx, ve, S, Sd, s0=0.0):
+    """r = Dx^T sigma, C, K of the Kelvin-Voigt law with constant stress s0 (see
+    periodyn.kernels.elastic)."""
     rate = Dx @ ve
-    sigma = S @ D + Sd @ rate
+    sigma = S @ D + Sd @ rate + s0
     rate_x = np.einsum("kac,c->ka", Dxx, ve)
     r = Dx.T @ sigma
     C = Dx.T @ Sd @ Dx
@@ -178,9 +179,10 @@ def motion_twin(model, x, qdot, qddot):
     K = np.zeros((n, n))
     for e, t in enumerate(tensors):
         idx = arr.dofs[e]
-        Me, re, Ce, Ke = beam_inertia_twin(x[idx], v[idx], a[idx], arr.mass[e], arr.weights[e], arr.rotary[e],
-                                           arr.gravity, arr.par[e])
-        rel, Cel, Kel = elastic_twin(t[0], t[1], t[2], v[idx], arr.stiffness[e], arr.damping[e])
+        ip = arr.ipar[e]  # planar beam layout: [l0, c_p, c_q, mass 4x4, weights 4, rotary 3x3]
+        Me, re, Ce, Ke = beam_inertia_twin(x[idx], v[idx], a[idx], ip[3:19].reshape(4, 4), ip[19:23],
+                                           ip[23:32].reshape(3, 3), arr.gravity, arr.par[e])
+        rel, Cel, Kel = elastic_twin(t[0], t[1], t[2], v[idx], arr.stiffness[e], arr.damping[e], arr.stress0[e])
         ix = np.ix_(idx, idx)
         M[ix] += Me
         C[ix] += Ce + Cel

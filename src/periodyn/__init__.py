@@ -30,6 +30,7 @@ _LAZY = {
     "integrate_stiff": "nonlinear", "rheo_linear_dae": "nonlinear",
     "load": "results",
     "campbell": "rotor",
+    "cardan_shaft": "examples",
     "sweep": "sweep",
     "OmegaSplitModel": "system", "RheoLinear": "system",
     "Transient": "transient", "transient": "transient",

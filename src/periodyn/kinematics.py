@@ -17,7 +17,7 @@ from .errors import ConvergenceError, InputError
 from .kernels import assembly
 from .spectra import sample_angles
 
-__all__ = ["Motion", "check_constraints", "nominal_configurations", "configuration", "motion"]
+__all__ = ["Motion", "check_constraints", "check_inertia", "nominal_configurations", "configuration", "motion"]
 
 NEWTON_TOL = 1e-12   # inf-norm of the constraint residual, relative to the model size
 NEWTON_MAX_ITER = 25
@@ -49,6 +49,27 @@ def check_constraints(model) -> None:
         f"Coordinates {free} can move without changing any constrained quantity (under-constrained), "
         f"while the equations {redundant} are redundant (over-constrained). "
         "Make one of the redundant modes free, or constrain the moving coordinates")
+
+
+def check_inertia(model) -> None:
+    """Raise InputError naming the dynamic coordinates if the reduced mass matrix
+    ``F_d^T M F_d`` is singular in the reference configuration (a dynamic coordinate or
+    flexible mode that moves no mass)."""
+    nd, n = model.n_dynamic, model.n_coordinates
+    if nd == 0:
+        return
+    zeros = np.zeros(model.n_inputs + nd)
+    Mb, Cb, Kb = (np.empty((nd, nd)) for _ in range(3))
+    assembly.reduced_sample(model.arrays, model.x_reference, zeros, zeros, Mb, Cb, Kb, np.empty(nd),
+                            *(np.empty((n, nd)) for _ in range(3)))
+    w, V = np.linalg.eigh(0.5 * (Mb + Mb.T))
+    if w[0] > 1e-12 * max(abs(w[-1]), 1e-300):
+        return
+    massless = [model.dynamic_names[i] for i in np.nonzero(np.abs(V[:, 0]) > 1e-6)[0]]
+    raise InputError(
+        f"model '{model.name}': singular mass matrix, the dynamic coordinates {massless} move no mass. "
+        "Add a point mass (add_mass), a rotational inertia (add_inertia / add_rigid_body) or element mass "
+        "(mass_per_length) that they move, or make them rigid/fixed instead of dynamic")
 
 
 def _raise_failure(model, info_row, what: str):

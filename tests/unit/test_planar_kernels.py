@@ -87,9 +87,11 @@ def test_beam_inertia_matches_twin_and_derivatives():
     rotary = PlanarBeam("b", ("p", "q"), ("a", "b"), ("rigid",) * 3, rotary_inertia_per_length=0.02).rotary(par[0])
     gravity = np.array([0.3, -9.81])
 
+    ipar = planar_beam.pack_inertia(par, mass, weights, rotary)
+
     def kernel(x, v, a):
         out = [np.zeros((6, 6)), np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))]
-        planar_beam.inertia(x, v, a, mass, weights, rotary, gravity, par, *out)
+        planar_beam.inertia(x, v, a, ipar, gravity, *out)
         return out
 
     got = kernel(xe, ve, ae)
@@ -107,8 +109,9 @@ def _reference_beam_mass(l0, rhoA, rhoI):
                       rotary_inertia_per_length=rhoI)
     mass, weights = beam.inertia(l0)
     M = np.zeros((6, 6))
-    planar_beam.inertia(np.array([0, 0, 0, l0, 0, 0.0]), np.zeros(6), np.zeros(6), mass, weights, beam.rotary(l0),
-                        np.zeros(2), np.array([l0, 0, 0.0]), M, np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6)))
+    planar_beam.inertia(np.array([0, 0, 0, l0, 0, 0.0]), np.zeros(6), np.zeros(6),
+                        beam.inertia_parameters(np.array([l0, 0, 0.0])), np.zeros(2), M, np.zeros(6),
+                        np.zeros((6, 6)), np.zeros((6, 6)))
     return M, weights
 
 
@@ -140,8 +143,8 @@ def test_truss_and_hinge_match_twins():
     mass = 0.5 * np.array([[1 / 3, 1 / 6], [1 / 6, 1 / 3]])
     M, r = np.zeros((4, 4)), np.zeros(4)
     ae = RNG.standard_normal(4)
-    planar_truss.inertia(xe, np.zeros(4), ae, mass, np.array([0.25, 0.25]), np.zeros((3, 3)), np.array([0, -9.81]), par, M, r,
-                         np.zeros((4, 4)), np.zeros((4, 4)))
+    ipar = np.concatenate([mass.ravel(), [0.25, 0.25]])
+    planar_truss.inertia(xe, np.zeros(4), ae, ipar, np.array([0, -9.81]), M, r, np.zeros((4, 4)), np.zeros((4, 4)))
     np.testing.assert_allclose(M, np.kron(mass, np.eye(2)), atol=1e-15)
     np.testing.assert_allclose(r, M @ ae - np.array([0, -0.25 * 9.81, 0, -0.25 * 9.81]), atol=1e-14)
     D, Dx, Dxx, Dxxx = _kernel_deformation(planar_hinge.deformation, np.array([0.3, 7.5]), np.array([0.2, 0, 0]), 1, 2)
@@ -156,15 +159,16 @@ def test_elastic_matches_twin_and_derivatives():
     S[1:, 1:] = 30 * np.array([[4, 2], [2, 4.0]])
     S[0, 0] = 500.0
     Sd = 1e-3 * S
+    s0 = np.array([2.0, -0.3, 0.1])  # constant stresses (an axial preload, end moments)
 
     def kernel(x, v):
         D, Dx, Dxx, _ = _kernel_deformation(planar_beam.deformation, x, par, 3, 6)
         r, C, K = np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))
-        elastic.add_elastic(3, 6, D, Dx, Dxx, v, S, Sd, r, C, K)
+        elastic.add_elastic(3, 6, D, Dx, Dxx, v, S, Sd, s0, r, C, K)
         return r, C, K, (D, Dx, Dxx)
 
     r, C, K, (D, Dx, Dxx) = kernel(xe, ve)
-    for g, t in zip((r, C, K), elastic_twin(D, Dx, Dxx, ve, S, Sd)):
+    for g, t in zip((r, C, K), elastic_twin(D, Dx, Dxx, ve, S, Sd, s0)):
         np.testing.assert_allclose(g, t, atol=1e-13 * max(1, np.abs(t).max()))
     np.testing.assert_allclose(_fd(lambda v: kernel(xe, v)[0], ve, 1e-4), C, atol=1e-9)
     np.testing.assert_allclose(_fd(lambda x: kernel(x, ve)[0], xe, 1e-7), K, rtol=1e-6, atol=1e-5)

@@ -4,7 +4,8 @@ inertia/elastic arrays and the reduced linearized equations (eq. 5, 7, 9, 10 of
 Schwab & Meijaard 2001) per sample, parallel over samples with ``prange``.
 
 Nothing here assumes two dimensions: a family is dispatched by its integer id to its
-deformation / inertia kernel, and all local arrays are padded to MAX_DOF / MAX_MODE.
+deformation / inertia kernel, and local arrays are as wide as the widest family of the
+model (the widths of ``dofs`` and ``modes``, see :mod:`.layout`).
 
 Constraint equations ``Phi(x) = b(q) = rhs0 + rhs_q q`` with one row per fixed,
 prescribed or dynamic nodal coordinate (``Phi = x_i``) and per rigid, prescribed or
@@ -16,22 +17,23 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
-from .layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS, MAX_DOF, MAX_MODE
-from . import planar_beam, planar_hinge, planar_truss
+from .layout import (FAMILY_EULER_NORMALIZATION, FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS,
+                     FAMILY_RIGID_BODY, FAMILY_RIGID_LINK, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_HINGE,
+                     FAMILY_SPATIAL_TRUSS)
+from . import planar_beam, planar_hinge, planar_truss, rigid_body, spatial_beam, spatial_joints, spatial_truss
 from .elastic import add_elastic
 
 ModelArrays = namedtuple("ModelArrays", [
     "family",       # (ne,) int64 family id
-    "dofs",         # (ne, MAX_DOF) int64 global nodal-coordinate index, -1 padded
+    "dofs",         # (ne, n_dof) int64 global nodal-coordinate index, -1 padded
     "ndof",         # (ne,) int64
-    "par",          # (ne, 3) float geometric parameters of the family
-    "modes",        # (ne, MAX_MODE) int64 global mode index, -1 padded
+    "par",          # (ne, n_par) float geometric parameters of the family, zero padded
+    "modes",        # (ne, n_mode) int64 global mode index, -1 padded
     "nmode",        # (ne,) int64
-    "stiffness",    # (ne, MAX_MODE, MAX_MODE) Kelvin-Voigt S (flexible/free modes only)
-    "damping",      # (ne, MAX_MODE, MAX_MODE) Kelvin-Voigt S_d, s * S units
-    "mass",         # (ne, 4, 4) interpolation mass coefficients, kg
-    "weights",      # (ne, 4) interpolation weights for distributed gravity, kg
-    "rotary",       # (ne, 3, 3) rotary-inertia interpolation coefficients, kg m^2
+    "stiffness",    # (ne, n_mode, n_mode) Kelvin-Voigt S (flexible/free modes only)
+    "damping",      # (ne, n_mode, n_mode) Kelvin-Voigt S_d, s * S units
+    "stress0",      # (ne, n_mode) constant stress sigma_0 of free/flexible modes (N, N m)
+    "ipar",         # (ne, n_ipar) float inertia parameters, layout per family module, zero padded
     "gravity",      # (dim,) m/s^2
     "mode_row",     # (n_modes,) int64 constraint row or -1 (free mode)
     "coord_row",    # (n_x,) int64 constraint row or -1 (dependent coordinate)
@@ -46,9 +48,9 @@ ModelArrays = namedtuple("ModelArrays", [
 @njit(cache=True)
 def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
     """Deformation modes and derivatives of every element at nodal coordinates x (n_x,):
-    overwrites D (ne, MAX_MODE), Dx (ne, MAX_MODE, MAX_DOF), Dxx (..., MAX_DOF),
-    Dxxx (..., MAX_DOF, MAX_DOF)."""
-    xe = np.zeros(MAX_DOF)
+    overwrites D (ne, n_mode), Dx (ne, n_mode, n_dof), Dxx (..., n_dof),
+    Dxxx (..., n_dof, n_dof)."""
+    xe = np.zeros(arr.dofs.shape[1])
     for e in range(arr.family.shape[0]):
         nd = arr.ndof[e]
         for a in range(nd):
@@ -60,14 +62,24 @@ def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
             planar_truss.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
         elif fam == FAMILY_PLANAR_HINGE:
             planar_hinge.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_EULER_NORMALIZATION:
+            spatial_joints.normalization(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_SPATIAL_TRUSS:
+            spatial_truss.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_SPATIAL_HINGE:
+            spatial_joints.hinge(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_RIGID_LINK:
+            spatial_joints.rigid_link(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        elif fam == FAMILY_SPATIAL_BEAM:
+            spatial_beam.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
 
 
 @njit(cache=True)
 def allocate_tensors(arr):
     """Zeroed element tensors D, Dx, Dxx, Dxxx for :func:`element_tensors`."""
-    ne = arr.family.shape[0]
-    return (np.zeros((ne, MAX_MODE)), np.zeros((ne, MAX_MODE, MAX_DOF)),
-            np.zeros((ne, MAX_MODE, MAX_DOF, MAX_DOF)), np.zeros((ne, MAX_MODE, MAX_DOF, MAX_DOF, MAX_DOF)))
+    ne, w = arr.dofs.shape
+    nm = arr.modes.shape[1]
+    return (np.zeros((ne, nm)), np.zeros((ne, nm, w)), np.zeros((ne, nm, w, w)), np.zeros((ne, nm, w, w, w)))
 
 
 @njit(cache=True)
@@ -266,13 +278,14 @@ def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
     for i in range(n):
         M[i, i] = arr.nodal_mass[i]
         r[i] = arr.nodal_mass[i] * a[i] - arr.nodal_force[i]
-    xe = np.zeros(MAX_DOF)
-    ve = np.zeros(MAX_DOF)
-    ae = np.zeros(MAX_DOF)
-    Me = np.zeros((MAX_DOF, MAX_DOF))
-    re = np.zeros(MAX_DOF)
-    Ce = np.zeros((MAX_DOF, MAX_DOF))
-    Ke = np.zeros((MAX_DOF, MAX_DOF))
+    w = arr.dofs.shape[1]
+    xe = np.zeros(w)
+    ve = np.zeros(w)
+    ae = np.zeros(w)
+    Me = np.zeros((w, w))
+    re = np.zeros(w)
+    Ce = np.zeros((w, w))
+    Ke = np.zeros((w, w))
     for e in range(arr.family.shape[0]):
         nd = arr.ndof[e]
         for i in range(nd):
@@ -286,10 +299,17 @@ def nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K):
         Ke[:] = 0.0
         fam = arr.family[e]
         if fam == FAMILY_PLANAR_BEAM:
-            planar_beam.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
+            planar_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
         elif fam == FAMILY_PLANAR_TRUSS:
-            planar_truss.inertia(xe, ve, ae, arr.mass[e], arr.weights[e], arr.rotary[e], arr.gravity, arr.par[e], Me, re, Ce, Ke)
-        add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], re, Ce, Ke)
+            planar_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
+        elif fam == FAMILY_SPATIAL_TRUSS:
+            spatial_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
+        elif fam == FAMILY_RIGID_BODY:
+            rigid_body.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
+        elif fam == FAMILY_SPATIAL_BEAM:
+            spatial_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me, re, Ce, Ke)
+        add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], arr.stress0[e],
+                    re, Ce, Ke)
         for i in range(nd):
             gi = arr.dofs[e, i]
             r[gi] += re[i]

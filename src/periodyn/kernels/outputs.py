@@ -4,6 +4,9 @@ output maps ``G = y_x F_q^d``)."""
 import numpy as np
 from numba import njit
 
+from .jets import rotation_coefficients
+from .rotation import rotation_matrix
+
 
 @njit(cache=True)
 def midpoint_deflection(xe, reference_length, grad):
@@ -30,3 +33,27 @@ def midpoint_deflection(xe, reference_length, grad):
     grad[4] = dux
     grad[5] = duy
     return cross * scale
+
+
+@njit(cache=True)
+def body_component(xe, direction, scale, grad):
+    """Component along ``direction`` (3,) (body components of orientation node o) of the
+    position of point m relative to point a, in o's frame, over scale (m):
+    ``d . R(lam)^T (x_m - x_a) / scale``.
+
+    xe = [x_a (3), lam (4), x_m (3)]; overwrites grad (10,) with dy/dxe. Returns y."""
+    R = np.empty((3, 3))
+    rotation_matrix(xe[3:7], R)
+    Q = rotation_coefficients()
+    u = xe[7:10] - xe[0:3]
+    Rd = R @ direction
+    grad[:] = 0.0
+    for i in range(3):
+        grad[i] = -Rd[i] / scale
+        grad[7 + i] = Rd[i] / scale
+        for k in range(3):
+            w = direction[k] * u[i] / scale
+            for j in range(4):
+                for m in range(4):
+                    grad[3 + j] += 2.0 * Q[i, k, j, m] * xe[3 + m] * w
+    return (Rd @ u) / scale

@@ -17,12 +17,22 @@ exact for rigid motions. mass[i, j] = rhoA l0 int N_i N_j ds, weights[i] = rhoA 
 Rotary inertia of the cross-sections (optional): the section rotation is interpolated as
 ``psi(s) = W0 alpha + W1 phi_p + W2 phi_q`` (+ const), ``W = (6s - 6s^2, N3', N4')``, and
 rotary[i, j] = rhoI l0 int W_i W_j ds (kg m^2).
+
+Inertia parameters ``ipar`` (IPAR_SIZE = 32): ``[l0, c_p, c_q, mass (4x4 row-major, kg),
+weights (4, kg), rotary (3x3 row-major, kg m^2)]``; :func:`pack_inertia` builds it.
 """
 
 import numpy as np
 from numba import njit
 
 from .planar_geometry import chord
+
+IPAR_SIZE = 32
+
+
+def pack_inertia(par, mass, weights, rotary):
+    """ipar (32,) from par = [l0, c_p, c_q], mass (4,4) kg, weights (4,) kg, rotary (3,3) kg m^2."""
+    return np.concatenate([np.asarray(par, dtype=float)[:3], np.ravel(mass), np.ravel(weights), np.ravel(rotary)])
 
 
 @njit(cache=True)
@@ -84,14 +94,18 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
 
 
 @njit(cache=True)
-def inertia(xe, ve, ae, mass, weights, rotary, gravity, par, M, r, C, K):
+def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
     """Add the beam's consistent inertia to the local arrays (6 coordinates):
     M += mass matrix (kg, kg m, kg m^2), r += ``M a - f`` (inertia incl. the convective
     terms, minus distributed gravity), C += d r / d ve, K += d r / d xe at fixed ve, ae.
-    mass (4,4) kg, weights (4,) kg, rotary (3,3) kg m^2, gravity (2,) m/s^2."""
+    ipar (>= 32,) as in the module docstring, gravity (2,) m/s^2."""
+    mass = ipar[3:19].reshape((4, 4))
+    weights = ipar[19:23]
+    rotary = ipar[23:32].reshape((3, 3))
     if np.any(rotary != 0.0):
         _rotary_inertia(xe, ve, ae, rotary, M, r, C, K)
-    l0 = par[0]
+    l0 = ipar[0]
+    par = ipar[:3]
     # G[i]: d g_i / d xe (2,6); gdd[i]: acceleration of g_i; H[i]: d gdd_i / d ve;
     # P[i]: d gdd_i / d xe at fixed ve, ae
     G = np.zeros((4, 2, 6))

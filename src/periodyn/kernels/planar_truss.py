@@ -4,7 +4,10 @@
 Deformation mode (m): elongation ``e1 = l - l0``. par = [l0].
 Inertia: consistent mass of a uniform bar, position linearly interpolated,
 ``r(s) = (1-s) x_p + s x_q``; mass[i, j] = rhoA l0 int N_i N_j ds, weights[i] = rhoA l0 int N_i ds.
+Inertia parameters ``ipar`` (IPAR_SIZE = 6): ``[mass (2x2 row-major, kg), weights (2, kg)]``.
 """
+
+IPAR_SIZE = 6
 
 from numba import njit
 
@@ -24,15 +27,17 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
 
 
 @njit(cache=True)
-def inertia(xe, ve, ae, mass, weights, rotary, gravity, par, M, r, C, K):
-    """Add the bar's mass matrix to M (4,4) and ``M a - f_gravity`` to r (4,); the
-    interpolation is linear in xe so C and K get nothing. mass (2,2) kg,
-    weights (2,) kg, gravity (2,) m/s^2; rotary is unused (a bar has no sections'
-    rotary inertia), kept for the common family signature."""
+def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
+    """Add the bar's mass matrix to M (2 dim, 2 dim) and ``M a - f_gravity`` to r (2 dim,)
+    in dim = gravity.shape[0] dimensions (the spatial truss uses it too); the
+    interpolation is linear in xe so C and K get nothing. ipar (>= 6,) as in the
+    module docstring, gravity (dim,) m/s^2."""
+    dim = gravity.shape[0]
     for i in range(2):
         for j in range(2):
-            for c in range(2):
-                M[2 * i + c, 2 * j + c] += mass[i, j]
-                r[2 * i + c] += mass[i, j] * ae[2 * j + c]
-        for c in range(2):
-            r[2 * i + c] -= weights[i] * gravity[c]
+            mij = ipar[2 * i + j]
+            for c in range(dim):
+                M[dim * i + c, dim * j + c] += mij
+                r[dim * i + c] += mij * ae[dim * j + c]
+        for c in range(dim):
+            r[dim * i + c] -= ipar[4 + i] * gravity[c]

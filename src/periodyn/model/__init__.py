@@ -1,10 +1,15 @@
-"""Model description: nodes, element families as data, masses, loads, inputs, outputs."""
+"""Model description (planar and spatial): nodes, element families as data, masses, loads,
+inputs, outputs."""
 
 from .elements import (FLEXIBLE, FREE, RIGID, IndependentElement, MidpointDeflection, PlanarBeam,
                        PlanarHinge, PlanarTruss)
 from .model import CompiledModel, Model
 from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation
+from .spatial import EulerNormalization, RigidBody, RigidLink, SpatialHinge, SpatialTruss
+from .spatial_beam import BeamSection, SpatialBeam
 
 __all__ = ["Model", "CompiledModel", "PlanarBeam", "PlanarTruss", "PlanarHinge", "MidpointDeflection",
            "IndependentElement", "RIGID", "FLEXIBLE", "FREE",
-           "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap"]
+           "CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap",
+           "EulerNormalization", "SpatialTruss", "SpatialHinge", "RigidLink", "RigidBody", "BeamSection",
+           "SpatialBeam"]

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..kernels import planar_beam
 from ..kernels.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS
 
 RIGID, FLEXIBLE, FREE, PRESCRIBED = "rigid", "flexible", "free", "prescribed"
@@ -78,6 +79,7 @@ class PlanarBeam:
 
     family = FAMILY_PLANAR_BEAM
     mode_names = ("elongation", "bending_p", "bending_q")
+    has_length = True
 
     def coordinates(self) -> list[str]:
         p, q = self.points
@@ -108,6 +110,11 @@ class PlanarBeam:
         """rhoI l0 int W_i W_j ds for the section-rotation interpolation (3,3), kg m^2."""
         return self.rotary_inertia_per_length * l0 * _gauss_integrals(SECTION_ROTATION)[0]
 
+    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
+        """ipar of :mod:`periodyn.kernels.planar_beam` from par = [l0, c_p, c_q]."""
+        mass, weights = self.inertia(par[0])
+        return planar_beam.pack_inertia(par, mass, weights, self.rotary(par[0]))
+
 
 @dataclass(frozen=True)
 class PlanarTruss:
@@ -123,13 +130,14 @@ class PlanarTruss:
 
     family = FAMILY_PLANAR_TRUSS
     mode_names = ("elongation",)
+    has_length = True
 
     def coordinates(self) -> list[str]:
         p, q = self.points
         return [f"{p}.x", f"{p}.y", f"{q}.x", f"{q}.y"]
 
     def parameters(self, x_ref: np.ndarray) -> np.ndarray:
-        return np.array([float(np.hypot(x_ref[2] - x_ref[0], x_ref[3] - x_ref[1])), 0.0, 0.0])
+        return np.array([float(np.hypot(x_ref[2] - x_ref[0], x_ref[3] - x_ref[1]))])
 
     def stiffness_matrix(self, l0: float) -> np.ndarray:
         return np.array([[self.EA / l0]])
@@ -137,25 +145,25 @@ class PlanarTruss:
     def damping_matrix(self, l0: float) -> np.ndarray:
         return self.kelvin_voigt * self.stiffness_matrix(l0)
 
-    def inertia(self, l0: float) -> tuple[np.ndarray, np.ndarray]:
+    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
+        """ipar of :mod:`periodyn.kernels.planar_truss`: [mass (2x2), weights (2,)], kg."""
         mass, weights = _gauss_integrals(LINEAR)
-        m = self.mass_per_length * l0
-        return m * mass, m * weights
-
-    def rotary(self, l0: float) -> np.ndarray:
-        return np.zeros((0, 0))
+        m = self.mass_per_length * par[0]
+        return np.concatenate([m * mass.ravel(), m * weights])
 
 
 @dataclass(frozen=True)
 class PlanarHinge:
     """Planar hinge: relative rotation phi_q - phi_p of two angles (rad); rotational
-    stiffness (N m/rad) and viscous damping (N m s/rad)."""
+    stiffness (N m/rad), viscous damping (N m s/rad) and a constant moment ``torque``
+    (N m) resisting positive rotation."""
 
     name: str
     angles: tuple[str, str]
     modes: tuple[str]
     rotational_stiffness: float = 0.0
     rotational_damping: float = 0.0
+    torque: float = 0.0
 
     family = FAMILY_PLANAR_HINGE
     mode_names = ("rotation",)
@@ -164,7 +172,7 @@ class PlanarHinge:
         return list(self.angles)
 
     def parameters(self, x_ref: np.ndarray) -> np.ndarray:
-        return np.array([x_ref[1] - x_ref[0], 0.0, 0.0])
+        return np.array([x_ref[1] - x_ref[0]])
 
     def stiffness_matrix(self, l0: float) -> np.ndarray:
         return np.array([[self.rotational_stiffness]])
@@ -172,11 +180,12 @@ class PlanarHinge:
     def damping_matrix(self, l0: float) -> np.ndarray:
         return np.array([[self.rotational_damping]])
 
-    def inertia(self, l0: float) -> tuple[np.ndarray, np.ndarray]:
-        return np.zeros((0, 0)), np.zeros(0)
+    def constant_stress(self) -> np.ndarray:
+        return np.array([self.torque])
 
-    def rotary(self, l0: float) -> np.ndarray:
-        return np.zeros((0, 0))
+    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
+        """A hinge has no inertia of its own."""
+        return np.zeros(0)
 
 
 @dataclass(frozen=True)

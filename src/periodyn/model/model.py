@@ -1,8 +1,10 @@
 """Model container: nodes, elements, masses, loads, boundary conditions and inputs,
 compiled once into flat arrays for the kernels.
 
-Nodal coordinates x: every point contributes ``"<point>.x", "<point>.y"`` (m), every
-angle node its own name (rad). Deformation modes are named ``"<element>.<mode>"``.
+Nodal coordinates x: every point contributes ``"<point>.x", "<point>.y"`` (m) (and
+``"<point>.z"`` in a spatial model), every angle node its own name (rad), every
+orientation node of a spatial model ``"<node>.l0" .. "<node>.l3"`` (Euler parameters, see
+:mod:`periodyn.model.spatial`), in this order. Deformation modes are named ``"<element>.<mode>"``.
 Coordinates q = [q^r, q^d]: inputs q^r (prescribed nodal coordinates or modes, each
 ``rate * theta`` above its reference value, theta = omega t the crank angle) and dynamic
 coordinates q^d (dynamic nodal coordinates, as deviations from their reference value,
@@ -16,11 +18,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.layout import MAX_DOF, MAX_INTERP, MAX_MODE
 from ..kernels.assembly import ModelArrays
-from .outputs import CoordinateOutput, ModeOutput, OutputMap, RelativeRotation, check_scale
+from .output_builder import OutputBuilder
+from .outputs import OutputMap
 from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
-                       MidpointDeflection, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
+                       PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
+from .spatial import SpatialTruss, orientation_coordinates
+from .spatial_builder import SpatialBuilder
 
 __all__ = ["Model", "CompiledModel"]
 
@@ -47,6 +51,7 @@ class CompiledModel:
     outputs: tuple[OutputMap, ...]
     independent: tuple[tuple[IndependentElement, np.ndarray], ...]
     constraint_labels: tuple[str, ...]
+    dimension: int = 2
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -70,12 +75,14 @@ class CompiledModel:
 
 
 @dataclass
-class Model:
-    """Builder of a planar flexible multibody model (SI units).
+class Model(SpatialBuilder, OutputBuilder):
+    """Builder of a planar (dimension 2) or spatial (dimension 3) flexible multibody
+    model (SI units).
 
-    Typical use: add points/angles with reference values, elements (all modes rigid
-    unless told), masses and loads; fix, prescribe and make dynamic coordinates; add
-    outputs; then :meth:`compile`. Deformations are zero in the reference configuration.
+    Typical use: add points/angles (planar) or points/orientations (spatial) with
+    reference values, elements (all modes rigid unless told), masses and loads; fix,
+    prescribe and make dynamic coordinates; add outputs; then :meth:`compile`.
+    Deformations are zero in the reference configuration.
     """
 
     name: str = "model"
@@ -91,33 +98,49 @@ class Model:
     dynamic: list[str] = field(default_factory=list)
     outputs: list = field(default_factory=list)
     independent: list[IndependentElement] = field(default_factory=list)
+    dimension: int = 2
+    orientations: dict[str, tuple[float, float, float, float]] = field(default_factory=dict)
+    body_inertias: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self):
+        if self.dimension not in (2, 3):
+            raise InputError(f"model '{self.name}': dimension must be 2 (planar) or 3 (spatial), got {self.dimension!r}")
+        if len(self.gravity) != self.dimension:
+            self.gravity = (0.0,) * self.dimension
 
     # ------------------------------------------------------------------ nodes
     def add_point(self, name: str, position) -> str:
-        """A position node at ``position`` (2,) m."""
+        """A position node at ``position`` (dimension,) m."""
         self._new_node(name)
         pos = np.asarray(position, dtype=float)
-        if pos.shape != (2,) or not np.all(np.isfinite(pos)):
-            raise InputError(f"point '{name}' needs a finite 2-D position (x, y) in m, got {position!r}")
-        self.points[name] = (float(pos[0]), float(pos[1]))
+        if pos.shape != (self.dimension,) or not np.all(np.isfinite(pos)):
+            raise InputError(f"point '{name}' needs a finite {self.dimension}-D position ({', '.join(self._axes)}) "
+                             f"in m, got {position!r}")
+        self.points[name] = tuple(float(v) for v in pos)
         return name
 
     def add_angle(self, name: str, value: float = 0.0) -> str:
-        """An orientation node with reference angle ``value`` (rad)."""
+        """An orientation node of a planar model with reference angle ``value`` (rad)."""
+        self._require_dimension(2, "add_angle")
         self._new_node(name)
         self.angles[name] = float(value)
         return name
 
+    @property
+    def _axes(self) -> str:
+        return "xyz"[:self.dimension]
+
     def _new_node(self, name: str) -> None:
         if not isinstance(name, str) or not name or "." in name:
             raise InputError(f"node names must be non-empty strings without '.', got {name!r}")
-        if name in self.points or name in self.angles:
+        if name in self.points or name in self.angles or name in self.orientations:
             raise InputError(f"node '{name}' is defined twice; node names must be unique")
 
     # ------------------------------------------------------------------ elements
     def _add(self, element):
-        if any(e.name == element.name for e in self.elements):
-            raise InputError(f"element '{element.name}' is defined twice; element names must be unique")
+        if any(e.name == element.name for e in self.elements) or element.name in self.orientations:
+            raise InputError(f"element '{element.name}' is defined twice (an orientation node's normalization "
+                             "carries the node's name); element names must be unique")
         for c in element.coordinates():
             self._check_coordinate(c, f"element '{element.name}'")
         self.elements.append(element)
@@ -128,28 +151,41 @@ class Model:
                  kelvin_voigt: float = 0.0, rotary_inertia_per_length: float = 0.0) -> str:
         """Planar beam; modes: statuses for (elongation, bending_p, bending_q) as a tuple,
         a dict by mode name or one string for all (default all rigid). See PlanarBeam."""
+        if self.dimension == 3:
+            raise InputError(f"beam '{name}': model '{self.name}' is spatial; use add_spatial_beam(name, points, "
+                             "orientations, section, ...) for a spatial beam")
         st = mode_statuses(name, modes, PlanarBeam.mode_names)
         return self._add(PlanarBeam(name, tuple(points), tuple(angles), st, float(EA), float(EI),
                                     float(mass_per_length), float(kelvin_voigt), float(rotary_inertia_per_length)))
 
     def add_truss(self, name: str, points: tuple[str, str], *, mode: str = RIGID, EA: float = 0.0,
                   mass_per_length: float = 0.0, kelvin_voigt: float = 0.0) -> str:
-        """Planar truss; mode: status of its elongation."""
+        """Truss (planar or spatial with the model); mode: status of its elongation."""
         st = mode_statuses(name, (mode,), PlanarTruss.mode_names)
-        return self._add(PlanarTruss(name, tuple(points), st, float(EA), float(mass_per_length),
-                                     float(kelvin_voigt)))
+        family = PlanarTruss if self.dimension == 2 else SpatialTruss
+        return self._add(family(name, tuple(points), st, float(EA), float(mass_per_length), float(kelvin_voigt)))
 
     def add_hinge(self, name: str, angles: tuple[str, str], *, mode: str = FREE, stiffness: float = 0.0,
-                  damping: float = 0.0) -> str:
-        """Planar hinge between two angle nodes; mode: status of the relative rotation
-        (default free: follows from the kinematics, with its spring/damper)."""
+                  damping: float = 0.0, axis=None, torque: float = 0.0, misalignment: str = RIGID) -> str:
+        """Hinge between two angle nodes (planar) or two orientation nodes about ``axis``
+        (3,) in the reference configuration (spatial; its misalignments are rigid); mode:
+        status of the relative rotation (default free: follows from the kinematics, with
+        its spring/damper; prescribe ``"<name>.rotation"`` to drive it). torque (N m): a
+        constant moment the free/flexible rotation carries besides its spring and damper,
+        resisting positive rotation (e.g. a load torque on an output shaft). misalignment
+        (spatial): status of the two misalignment modes, rigid for a joint, free for a hinge
+        that only measures a relative rotation (a twist output)."""
+        if self.dimension == 3:
+            return self._spatial_hinge(name, angles, axis, mode, stiffness, damping, torque, misalignment)
         st = mode_statuses(name, (mode,), PlanarHinge.mode_names)
-        return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping)))
+        return self._add(PlanarHinge(name, tuple(angles), st, float(stiffness), float(damping), float(torque)))
 
     # ------------------------------------------------------------------ masses and loads
     def add_mass(self, point: str, mass: float) -> None:
         """Point mass (kg) at a position node."""
         self._check_node(point, self.points, "point mass")
+        if not (np.isfinite(mass) and mass >= 0):
+            raise InputError(f"point mass at '{point}': mass must be finite and non-negative (kg), got {mass!r}")
         self.point_masses[point] = self.point_masses.get(point, 0.0) + float(mass)
 
     def add_inertia(self, angle: str, inertia: float) -> None:
@@ -158,11 +194,13 @@ class Model:
         self.inertias[angle] = self.inertias.get(angle, 0.0) + float(inertia)
 
     def add_force(self, point: str, force) -> None:
-        """Constant force (2,) N at a point."""
+        """Constant force (dimension,) N at a point."""
         self._check_node(point, self.points, "force")
-        fx, fy = np.asarray(force, dtype=float)
-        for c, f in ((f"{point}.x", fx), (f"{point}.y", fy)):
-            self.loads[c] = self.loads.get(c, 0.0) + float(f)
+        f = np.asarray(force, dtype=float)
+        if f.shape != (self.dimension,):
+            raise InputError(f"force at '{point}' must have {self.dimension} components, got {force!r}")
+        for c, fc in zip(self._axes, f):
+            self.loads[f"{point}.{c}"] = self.loads.get(f"{point}.{c}", 0.0) + float(fc)
 
     def add_torque(self, angle: str, torque: float) -> None:
         """Constant torque (N m) on an angle node."""
@@ -170,15 +208,16 @@ class Model:
         self.loads[angle] = self.loads.get(angle, 0.0) + float(torque)
 
     def set_gravity(self, acceleration) -> None:
-        """Uniform gravity field (2,) m/s^2 acting on point masses and distributed masses."""
+        """Uniform gravity field (dimension,) m/s^2 acting on point masses and distributed masses."""
         g = np.asarray(acceleration, dtype=float)
-        if g.shape != (2,):
-            raise InputError(f"gravity must be a 2-vector in m/s^2, got {acceleration!r}")
-        self.gravity = (float(g[0]), float(g[1]))
+        if g.shape != (self.dimension,):
+            raise InputError(f"gravity must be a {self.dimension}-vector in m/s^2, got {acceleration!r}")
+        self.gravity = tuple(float(v) for v in g)
 
     # ------------------------------------------------------------------ coordinates
     def fix(self, name: str) -> None:
-        """Fix a nodal coordinate (``"A.y"``, an angle name) or all coordinates of a point."""
+        """Fix a nodal coordinate (``"A.y"``, an angle name), all coordinates of a point, or
+        an orientation node (three of its Euler parameters; the normalization sets the fourth)."""
         for c in self._expand(name):
             self.fixed.append(c)
 
@@ -195,41 +234,14 @@ class Model:
         self.prescribed[name] = float(rate)
 
     def make_dynamic(self, coordinate: str) -> None:
-        """Make a nodal coordinate a dynamic degree of freedom (deviation from its reference)."""
+        """Make a nodal coordinate a dynamic degree of freedom (deviation from its reference);
+        an orientation node name makes three of its Euler parameters dynamic (all but the
+        largest in the reference; the normalization sets the fourth)."""
+        if coordinate in self.orientations:
+            self.dynamic.extend(self._orientation_fix(coordinate))
+            return
         self._check_coordinate(coordinate, "make_dynamic")
         self.dynamic.append(coordinate)
-
-    def add_midpoint_deflection(self, name: str, ends: tuple[str, str], mid: str, reference_length: float) -> None:
-        """Output: distance of ``mid`` from the line through ``ends`` over reference_length."""
-        for p in (*ends, mid):
-            self._check_node(p, self.points, f"output '{name}'")
-        if not reference_length > 0:
-            raise InputError(f"output '{name}': reference_length must be positive, got {reference_length!r}")
-        self._add_output(MidpointDeflection(name, tuple(ends), mid, float(reference_length)))
-
-    def add_coordinate_output(self, name: str, coordinate: str, scale: float = 1.0) -> None:
-        """Output: a nodal coordinate (``"<point>.x"``, an angle) divided by ``scale``."""
-        self._check_coordinate(coordinate, f"output '{name}'")
-        self._add_output(CoordinateOutput(name, coordinate, check_scale(name, scale)))
-
-    def add_relative_rotation(self, name: str, angles: tuple[str, str]) -> None:
-        """Output: rotation of angle node ``angles[1]`` relative to ``angles[0]`` (rad)."""
-        for a in angles:
-            self._check_node(a, self.angles, f"output '{name}'")
-        self._add_output(RelativeRotation(name, tuple(angles)))
-
-    def add_mode_output(self, name: str, mode: str, scale: float = 1.0) -> None:
-        """Output: a deformation mode ``"<element>.<mode>"`` divided by ``scale``."""
-        if mode.count(".") != 1 or mode.split(".")[0] not in {e.name for e in self.elements}:
-            raise InputError(f"output '{name}': '{mode}' is not a mode '<element>.<mode>' of an existing element")
-        element, index = self._mode(mode)
-        self._add_output(ModeOutput(name, mode, self.elements.index(element), index, tuple(element.coordinates()),
-                                    check_scale(name, scale)))
-
-    def _add_output(self, output) -> None:
-        if any(o.name == output.name for o in self.outputs):
-            raise InputError(f"output '{output.name}' is defined twice; output names must be unique")
-        self.outputs.append(output)
 
     def add_independent(self, element: IndependentElement) -> None:
         """An independently modelled element (eq. 11-12), added to the linearized equations."""
@@ -243,20 +255,25 @@ class Model:
     # ------------------------------------------------------------------ checks
     def _check_node(self, name, table, what):
         if name not in table:
-            kind = "point" if table is self.points else "angle"
+            kind = "point" if table is self.points else "angle" if table is self.angles else "orientation"
             raise InputError(f"{what}: unknown {kind} node '{name}'; add it with add_{kind}() first")
 
     def _coordinate_names(self) -> list[str]:
-        """Points' (x, y) in insertion order, then the angles; matches the reference vector."""
-        return [f"{p}.{c}" for p in self.points for c in "xy"] + list(self.angles)
+        """Points' (x, y[, z]) in insertion order, then the angles, then the orientations'
+        Euler parameters; matches the reference vector."""
+        return ([f"{p}.{c}" for p in self.points for c in self._axes] + list(self.angles)
+                + [c for o in self.orientations for c in orientation_coordinates(o)])
 
     def _check_coordinate(self, name, what):
         if name not in set(self._coordinate_names()):
-            raise InputError(f"{what}: unknown nodal coordinate '{name}'; use '<point>.x', '<point>.y' or an angle name")
+            raise InputError(f"{what}: unknown nodal coordinate '{name}'; use '<point>.x', '<point>.y', "
+                             "'<point>.z', an angle name or '<orientation>.l0'..'.l3' of an existing node")
 
     def _expand(self, name):
         if name in self.points:
-            return [f"{name}.x", f"{name}.y"]
+            return [f"{name}.{c}" for c in self._axes]
+        if name in self.orientations:
+            return self._orientation_fix(name)
         self._check_coordinate(name, "fix")
         return [name]
 
@@ -271,12 +288,14 @@ class Model:
     def compile(self) -> CompiledModel:
         """Flatten into kernel arrays and check that the constraints determine every
         nodal coordinate exactly once in the reference configuration."""
-        from ..kinematics import check_constraints
+        from ..kinematics import check_constraints, check_inertia
 
         coords = self._coordinate_names()
         index = {c: i for i, c in enumerate(coords)}
         n_x = len(coords)
-        x_ref = np.array([v for p in self.points.values() for v in p] + list(self.angles.values()))
+        x_ref = np.array([v for p in self.points.values() for v in p] + list(self.angles.values())
+                         + [v for o in self.orientations.values() for v in o])
+        elements = self.elements + self._spatial_elements()
         # coordinate statuses
         status: dict[str, str] = {}
         for group, label in ((self.fixed, "fixed"), (self.dynamic, "dynamic"),
@@ -287,7 +306,7 @@ class Model:
                 status[c] = label
         # modes
         mode_names, mode_status = [], []
-        for e in self.elements:
+        for e in elements:
             for m, st in zip(e.mode_names, e.modes):
                 full = f"{e.name}.{m}"
                 mode_names.append(full)
@@ -333,27 +352,32 @@ class Model:
             labels.append(f"{s} mode '{m}'")
             row += 1
 
-        ne = len(self.elements)
+        ne = len(elements)
+        # local widths: the widest family present in this model (no global padding)
+        pars = [el.parameters(x_ref[[index[c] for c in el.coordinates()]]) for el in elements]
+        ipars = [el.inertia_parameters(p) for el, p in zip(elements, pars)]
+        w_dof = max((len(el.coordinates()) for el in elements), default=1)
+        w_mode = max((len(el.mode_names) for el in elements), default=1)
         family = np.zeros(ne, dtype=np.int64)
-        dofs = -np.ones((ne, MAX_DOF), dtype=np.int64)
+        dofs = -np.ones((ne, w_dof), dtype=np.int64)
         ndof = np.zeros(ne, dtype=np.int64)
-        par = np.zeros((ne, 3))
-        modes = -np.ones((ne, MAX_MODE), dtype=np.int64)
+        par = np.zeros((ne, max((p.size for p in pars), default=1)))
+        ipar = np.zeros((ne, max((p.size for p in ipars), default=1)))
+        modes = -np.ones((ne, w_mode), dtype=np.int64)
         nmode = np.zeros(ne, dtype=np.int64)
-        stiff = np.zeros((ne, MAX_MODE, MAX_MODE))
-        damp = np.zeros((ne, MAX_MODE, MAX_MODE))
-        mass = np.zeros((ne, MAX_INTERP, MAX_INTERP))
-        weights = np.zeros((ne, MAX_INTERP))
-        rotary = np.zeros((ne, MAX_MODE, MAX_MODE))
+        stiff = np.zeros((ne, w_mode, w_mode))
+        damp = np.zeros((ne, w_mode, w_mode))
+        stress0 = np.zeros((ne, w_mode))
         k0 = 0
-        for e, el in enumerate(self.elements):
+        for e, el in enumerate(elements):
             loc = [index[c] for c in el.coordinates()]
             family[e] = el.family
             ndof[e] = len(loc)
             dofs[e, :len(loc)] = loc
-            par[e] = el.parameters(x_ref[loc])
+            par[e, :pars[e].size] = pars[e]
+            ipar[e, :ipars[e].size] = ipars[e]
             l0 = par[e, 0]
-            if el.family != PlanarHinge.family and not l0 > 0:
+            if getattr(el, "has_length", False) and not l0 > 0:
                 raise InputError(f"element '{el.name}' has zero length in the reference configuration; move its points apart")
             nm = len(el.mode_names)
             nmode[e] = nm
@@ -362,33 +386,31 @@ class Model:
             mask = np.outer(constitutive, constitutive)
             stiff[e, :nm, :nm] = el.stiffness_matrix(l0) * mask
             damp[e, :nm, :nm] = el.damping_matrix(l0) * mask
-            me, we = el.inertia(l0)
-            mass[e, :me.shape[0], :me.shape[1]] = me
-            weights[e, :we.shape[0]] = we
-            section = el.rotary(l0)
-            rotary[e, :section.shape[0], :section.shape[1]] = section
+            stress0[e, :nm] = getattr(el, "constant_stress", lambda: np.zeros(nm))() * constitutive
             k0 += nm
 
         nodal_mass = np.zeros(n_x)
         nodal_force = np.zeros(n_x)
         for p, m in self.point_masses.items():
-            for c, g in ((f"{p}.x", self.gravity[0]), (f"{p}.y", self.gravity[1])):
-                nodal_mass[index[c]] += m
-                nodal_force[index[c]] += m * g
+            for c, g in zip(self._axes, self.gravity):
+                nodal_mass[index[f"{p}.{c}"]] += m
+                nodal_force[index[f"{p}.{c}"]] += m * g
         for a, J in self.inertias.items():
             nodal_mass[index[a]] += J
         for c, f in self.loads.items():
             nodal_force[index[c]] += f
 
-        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, mass, weights, rotary,
+        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, stress0, ipar,
                              np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
                              len(input_names), nodal_mass, nodal_force)
         outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
                                   getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
-                                  getattr(o, "index", -1)) for o in self.outputs)
+                                  getattr(o, "index", -1), None if o.kind != "body_component"
+                                  else np.array(o.direction)) for o in self.outputs)
         independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
         compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                                  np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),
-                                 outputs, independent, tuple(labels))
+                                 outputs, independent, tuple(labels), self.dimension)
         check_constraints(compiled)
+        check_inertia(compiled)
         return compiled

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.outputs import midpoint_deflection
+from ..kernels.outputs import body_component, midpoint_deflection
 
-__all__ = ["CoordinateOutput", "RelativeRotation", "ModeOutput", "OutputMap"]
+__all__ = ["CoordinateOutput", "RelativeRotation", "ModeOutput", "BodyComponent", "OutputMap"]
 
 def check_scale(name: str, scale) -> float:
     """scale as a float; InputError unless finite and non-zero."""
@@ -27,7 +27,7 @@ def check_scale(name: str, scale) -> float:
     return s
 
 
-KINDS = ("midpoint_deflection", "coordinate", "relative_rotation", "mode")
+KINDS = ("midpoint_deflection", "coordinate", "relative_rotation", "mode", "body_component")
 
 
 @dataclass(frozen=True)
@@ -76,9 +76,30 @@ class ModeOutput:
 
 
 @dataclass(frozen=True)
+class BodyComponent:
+    """Output: the position of point ``points[1]`` relative to ``points[0]`` in the frame of
+    orientation node ``orientation``, its component along ``direction`` (3,) (unit, body
+    components), divided by ``scale`` (e.g. the lateral deflection of a shaft's midpoint
+    in the frame of a co-rotating end node, over the shaft length)."""
+
+    name: str
+    points: tuple[str, str]
+    orientation: str
+    direction: tuple[float, float, float]
+    scale: float = 1.0
+
+    kind = "body_component"
+
+    def coordinates(self) -> list[str]:
+        a, m = ([f"{p}.{c}" for c in "xyz"] for p in self.points)
+        return a + [f"{self.orientation}.l{i}" for i in range(4)] + m
+
+
+@dataclass(frozen=True)
 class OutputMap:
     """A compiled output: kind (one of KINDS), nodal-coordinate indices dofs (k,),
-    scale (reference length or divisor), element / mode index (mode outputs, else -1)."""
+    scale (reference length or divisor), element / mode index (mode outputs, else -1),
+    direction (3,) (body-component outputs, else None)."""
 
     name: str
     kind: str
@@ -86,10 +107,11 @@ class OutputMap:
     scale: float
     element: int = -1
     mode: int = -1
+    direction: np.ndarray | None = None
 
     def gradient(self, x: np.ndarray, Dx: np.ndarray | None = None) -> np.ndarray:
         """y_x on ``dofs`` (k,) at nodal coordinates x (n_x,); mode outputs need the
-        element tensors Dx (ne, MAX_MODE, MAX_DOF) at x."""
+        element tensors Dx (ne, n_mode, n_dof) at x."""
         k = self.dofs.size
         if self.kind == "midpoint_deflection":
             grad = np.empty(6)
@@ -99,4 +121,8 @@ class OutputMap:
             return np.full(1, 1.0 / self.scale)
         if self.kind == "relative_rotation":
             return np.array([-1.0, 1.0])
+        if self.kind == "body_component":
+            grad = np.empty(10)
+            body_component(x[self.dofs], self.direction, self.scale, grad)
+            return grad
         return Dx[self.element, self.mode, :k] / self.scale

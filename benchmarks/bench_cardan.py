@@ -1,0 +1,73 @@
+"""Cardan drive shaft (Schwab & Meijaard 2001, section 4.4): a 1000-speed sweep over
+0 < omega/omega_b < 1 with stability, on 2 worker processes, by the default method
+("auto"), against dense Hill, against monodromy integration (DOP853 of the variational
+equations, method="monodromy") and against the 4th-order Magnus monodromy the sweep file
+uses (method="magnus"), measured side by side in one run, each
+arm with one BLAS/Numba thread per process. A slow arm runs on an evenly spread subset
+of the speeds (--subset) and its rate is speeds per second of that subset. The paper
+needed about 1 s per speed for the periodic solution and about 1 min per speed for the
+stability.
+
+Run: python benchmarks/bench_cardan.py [--speeds 1000] [--workers 2] [--subset 100]
+"""
+
+import os
+
+for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ[var] = "1"
+
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import periodyn  # noqa: E402
+
+
+def timed_sweep(model, omega, method, workers, harmonics):
+    """(speeds per second, dataset) of one sweep with stability."""
+    t0 = time.perf_counter()
+    data = periodyn.sweep(model, omega, harmonics, stability=True, method=method, workers=workers, progress=False)
+    return omega.size / (time.perf_counter() - t0), data
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--speeds", type=int, default=1000)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--subset", type=int, default=50, help="speeds for the dense and monodromy arms")
+    ap.add_argument("--harmonics", type=int, default=12)
+    args = ap.parse_args()
+    model = periodyn.examples.cardan_shaft()
+    wb = model.metadata["omega_b"]
+    omega = np.linspace(0.001, 0.999, args.speeds) * wb
+    subset = omega[np.linspace(0, omega.size - 1, min(args.subset, omega.size)).astype(int)]
+    m = args.harmonics
+    # warm-up: compile and start the workers' imports once before timing
+    for method in ("auto", "magnus", "dense", "monodromy"):
+        periodyn.sweep(model, omega[:2], m, stability=True, method=method, progress=False)
+    rates, data = {}, {}
+    for name, speeds in (("auto", omega), ("magnus", omega), ("dense", subset), ("monodromy", subset)):
+        rates[name], data[name] = timed_sweep(model, speeds, name, args.workers, m)
+    auto = data["auto"].sel(omega=subset)
+    agree = {k: int((auto["stable"].values == data[k].sel(omega=subset)["stable"].values).sum())
+             for k in ("magnus", "dense", "monodromy")}
+    unstable = auto["stable"].values == 0
+    print(f"Cardan shaft: n = {model.n} dynamic coordinates, m = {m} harmonics, {model.samples} samples, "
+          f"{args.workers} workers")
+    print(f"{'method':<12}{'speeds':>8}{'speeds/s':>12}{'auto x':>10}{'same verdict':>14}")
+    for name in rates:
+        count = data[name]["omega"].size
+        same = "-" if name == "auto" else f"{agree[name]}/{subset.size}"
+        print(f"{name:<12}{count:8d}{rates[name]:12.1f}{rates['auto'] / rates[name]:10.1f}{same:>14}")
+    full = data["auto"]
+    zones = full["omega"].values[full["stable"].values == 0] / wb
+    print(f"auto: {int((full['stable'].values == 0).sum())} unstable speeds, omega/omega_b in "
+          f"[{zones.min():.3f}, {zones.max():.3f}]; {int(unstable.sum())} of the subset" if zones.size else
+          "auto: no unstable speed")
+    print(f"max |Re lambda| difference auto - monodromy on the subset: "
+          f"{np.nanmax(np.abs(auto['max_real_exponent'].values - data['monodromy']['max_real_exponent'].values)):.2e} 1/s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""Fig. 9 of Schwab & Meijaard (2001): maximal dimensionless midpoint deflection of the
+Cardan drive shaft's periodic solution over 0 < omega/omega_b < 1 (alpha = pi/6), the
+unstable stretches drawn thin between circles; resonances near 1/4, 1/3 and 1/2 of
+omega_b are marked.
+
+Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use)."""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import periodyn.config  # noqa: E402
+from periodyn.plotting import save_figure  # noqa: E402
+
+NAME = "cardan_shaft"
+
+
+def over_period(ds, output: str) -> np.ndarray:
+    """The output over one period per speed, (k, 720), from its harmonics (l = -m..m)."""
+    harmonics = ds["harmonics"].sel(output=output).values          # (k, 2m+1)
+    theta = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    return (harmonics @ np.exp(1j * np.outer(ds["harmonic"].values, theta))).real
+
+
+def speed_ratio(ds) -> np.ndarray:
+    """omega / omega_b of the sweep (omega_b: the model's first bending frequency)."""
+    return ds["omega_over_omega_b"].values
+
+
+def draw_with_unstable(ax, ratio, values, unstable):
+    """Stable stretches thick, unstable thin between circles at their ends."""
+    ax.plot(ratio, np.where(unstable, np.nan, values), "k-", lw=1.2)
+    ax.plot(ratio, np.where(unstable, values, np.nan), "k-", lw=0.5)
+    edges = np.flatnonzero(np.diff(unstable.astype(int)))
+    for i in edges:
+        j = i + 1 if unstable[i + 1] else i
+        ax.plot(ratio[j], values[j], "o", mfc="none", mec="k", ms=5)
+
+
+def maximum_figure(ds, values, ylabel: str, title: str):
+    """(figure, axes) of a maximum over the speed ratio: log scale, unstable stretches thin,
+    1/4, 1/3, 1/2 of omega_b dotted."""
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    draw_with_unstable(ax, speed_ratio(ds), values, ds["stable"].values == 0)
+    ax.set_yscale("log")
+    for k in (4, 3, 2):
+        ax.axvline(1 / k, color="0.6", ls=":", lw=0.8)
+    ax.set_xlim(0, 1)
+    ax.set_xlabel(r"$\omega/\omega_b$ [-]")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    return fig, ax
+
+
+def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
+    ds = periodyn.config.ensure(NAME)
+    deflection = np.abs(over_period(ds, "midpoint_deflection")).max(axis=1)
+    fig, _ = maximum_figure(ds, deflection, r"$(v/l)_{max}$ [-]",
+                            r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection")
+    fig.tight_layout()
+    return [save_figure(fig, pathlib.Path(out_dir) / "fig09_cardan_max_deflection.png")]
+
+
+if __name__ == "__main__":
+    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")
