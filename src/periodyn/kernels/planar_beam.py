@@ -99,13 +99,11 @@ def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
     M += mass matrix (kg, kg m, kg m^2), r += ``M a - f`` (inertia incl. the convective
     terms, minus distributed gravity), C += d r / d ve, K += d r / d xe at fixed ve, ae.
     ipar (>= 32,) as in the module docstring, gravity (2,) m/s^2."""
-    mass = ipar[3:19].reshape((4, 4))
-    weights = ipar[19:23]
-    rotary = ipar[23:32].reshape((3, 3))
-    if np.any(rotary != 0.0):
-        _rotary_inertia(xe, ve, ae, rotary, M, r, C, K)
+    for k in range(23, 32):
+        if ipar[k] != 0.0:
+            _rotary_inertia(xe, ve, ae, np.ascontiguousarray(ipar[23:32]).reshape((3, 3)), M, r, C, K)
+            break
     l0 = ipar[0]
-    par = ipar[:3]
     # G[i]: d g_i / d xe (2,6); gdd[i]: acceleration of g_i; H[i]: d gdd_i / d ve;
     # P[i]: d gdd_i / d xe at fixed ve, ae
     G = np.zeros((4, 2, 6))
@@ -123,7 +121,7 @@ def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
     tang = np.empty((2, 2))
     for k in range(2):
         col = 2 + 3 * k
-        psi = xe[col] + par[1 + k]
+        psi = xe[col] + ipar[1 + k]
         t0 = np.cos(psi)
         t1 = np.sin(psi)
         tang[k, 0] = t0
@@ -141,7 +139,7 @@ def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
     for i in range(4):
         bi = np.zeros(2)
         for j in range(4):
-            mij = mass[i, j]
+            mij = ipar[3 + 4 * i + j]
             if mij == 0.0:
                 continue
             for c in range(2):
@@ -159,7 +157,7 @@ def inertia(xe, ve, ae, ipar, gravity, M, r, C, K):
                     C[a, b] += mij * s_c
                     K[a, b] += mij * s_k
         for c in range(2):
-            bi[c] -= weights[i] * gravity[c]
+            bi[c] -= ipar[19 + i] * gravity[c]
         for a in range(6):
             r[a] += G[i, 0, a] * bi[0] + G[i, 1, a] * bi[1]
         if i >= 2:
