@@ -143,3 +143,14 @@ def test_body_component_output_matches_twin_and_co_rotates():
     grad = np.empty(10)
     assert body_component(xe, d, 0.5, grad) == pytest.approx(twin(xe), abs=1e-14)
     np.testing.assert_allclose(grad, complex_step(twin, xe), atol=1e-13)
+
+
+def test_euler_parameters_of_any_rotation():
+    """Round trip R -> lam -> R for random rotations and half-turns about each axis."""
+    from periodyn.model.spatial import axis_angle
+    rng = np.random.default_rng(5)
+    lams = [rng.standard_normal(4) for _ in range(20)] + [axis_angle(np.eye(3)[i] + 1e-3, np.pi) for i in range(3)]
+    for lam in lams:
+        lam = lam / np.linalg.norm(lam)
+        got = euler_parameters(rotation_of(lam))
+        np.testing.assert_allclose(got, lam * np.sign(lam[0]) if lam[0] != 0 else lam, atol=1e-14)
