@@ -60,18 +60,25 @@ def test_spatial_slider_crank_linearizes_like_the_planar_one():
     assert np.abs(a.stiffness).max() > 100.0 and np.abs(a.additional_force).max() > 1e-3   # not trivially equal
 
 
-def spatial_shaft(n_el, lumped=False):
-    """The steel shaft along x in a spatial model: universal joint to ground at x = 0 (its
-    twist held), both ends' lateral positions fixed, the far end free to slide axially;
-    elements inextensible, the other five modes flexible (dynamic)."""
+def spatial_shaft(n_el, lumped=False, spin=False):
+    """The steel shaft along x in a spatial model: a universal joint at x = 0 (its twist
+    held; with ``spin`` to a motor driving the shaft about its axis at constant speed,
+    the joint at zero misalignment then being a pin that transmits the spin), both ends'
+    lateral positions fixed, the far end free to slide axially; elements inextensible,
+    the other five modes flexible (dynamic)."""
     m = Model("shaft", dimension=3)
     m.add_orientation("ground")
     m.fix("ground")
+    support = "ground"
+    if spin:
+        support = m.add_orientation("drive")
+        m.add_hinge("motor", ("ground", "drive"), axis=(1, 0, 0))
+        m.prescribe("motor.rotation", rate=1.0)
     section = BeamSection.solid_circular(RADIUS, E_MOD, NU, RHO)
     for i in range(n_el + 1):
         m.add_point(f"P{i}", (i * L / n_el, 0.0, 0.0))
         m.add_orientation(f"R{i}")
-    m.add_universal_joint("support", ("ground", "R0"), axes=[(0, 1, 0), (0, 0, 1)])
+    m.add_universal_joint("support", (support, "R0"), axes=[(0, 1, 0), (0, 0, 1)])
     flexible = {mode: "flexible" for mode in ("torsion", "bending_z_p", "bending_z_q", "bending_y_p", "bending_y_q")}
     for i in range(n_el):
         m.add_spatial_beam(f"shaft{i}", (f"P{i}", f"P{i + 1}"), (f"R{i}", f"R{i + 1}"), section, modes=flexible,
@@ -108,29 +115,6 @@ def test_spatial_beam_needs_a_spatial_model():
         spatial.add_spatial_beam("b", ("p", "missing"), ("Rp", "Rq"), BeamSection())
 
 
-def spinning_shaft(n_el):
-    """The pinned shaft driven about its axis at constant speed through a universal joint
-    at zero misalignment (a pin that transmits the spin); far end pinned, free to slide."""
-    m = Model("spinning_shaft", dimension=3)
-    m.add_orientation("ground")
-    m.fix("ground")
-    m.add_orientation("drive")
-    m.add_hinge("motor", ("ground", "drive"), axis=(1, 0, 0))
-    m.prescribe("motor.rotation", rate=1.0)
-    section = BeamSection.solid_circular(RADIUS, E_MOD, NU, RHO)
-    for i in range(n_el + 1):
-        m.add_point(f"P{i}", (i * L / n_el, 0.0, 0.0))
-        m.add_orientation(f"R{i}")
-    m.add_universal_joint("support", ("drive", "R0"), axes=[(0, 1, 0), (0, 0, 1)])
-    flexible = {mode: "flexible" for mode in ("torsion", "bending_z_p", "bending_z_q", "bending_y_p", "bending_y_q")}
-    for i in range(n_el):
-        m.add_spatial_beam(f"shaft{i}", (f"P{i}", f"P{i + 1}"), (f"R{i}", f"R{i + 1}"), section, modes=flexible)
-    m.fix("P0")
-    m.fix(f"P{n_el}.y")
-    m.fix(f"P{n_el}.z")
-    return m.compile()
-
-
 def test_spinning_shaft_whirls_like_a_gyroscopic_rayleigh_beam():
     """Linearized about the spin Omega, the equations in the beam's (co-rotating) modes are
     constant, and the first bending pair's frequencies are the simply supported spinning
@@ -146,7 +130,7 @@ def test_spinning_shaft_whirls_like_a_gyroscopic_rayleigh_beam():
     expected = np.array([forward - spin, backward + spin])
     errors = []
     for n_el in (4, 8):
-        model = spinning_shaft(n_el)
+        model = spatial_shaft(n_el, spin=True)
         lin = linearize(model, spin, 4)
         for name in ("mass", "damping", "stiffness"):
             sample = getattr(lin, name)

@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from . import jets
+from .spatial_joints import store
 from .vector_inertia import add_vector_inertia
 
 NDOF = 14
@@ -73,16 +74,6 @@ def axes(xe, par, node, offset, out):
         for c in range(3):
             jets.lincomb(A[3 * k], R[c, 0], A[3 * k + 1], R[c, 1], out[k, c])
             jets.lincomb(1.0, out[k, c], A[3 * k + 2], R[c, 2], out[k, c])
-
-
-@njit(cache=True)
-def _store(J, k, D, Dx, Dxx, Dxxx):
-    n = NDOF
-    v, g, H, T = jets.parts(J)
-    D[k] = v[0]
-    Dx[k, :n] = g
-    Dxx[k, :n, :n] = H
-    Dxxx[k, :n, :n, :n] = T
 
 
 @njit(cache=True)
@@ -160,7 +151,7 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     jets.add(out, tmp, out)
     jets.mul(ang[3], ang[0], tmp)
     jets.sub(out, tmp, out)
-    _store(out, 1, D, Dx, Dxx, Dxxx)
+    store(out, 1, NDOF, D, Dx, Dxx, Dxxx)
     # elongation with the bowing of both planes
     u = np.empty((3, m))
     chord(xe, 0, 7, u)
@@ -171,9 +162,9 @@ def deformation(xe, par, D, Dx, Dxx, Dxxx):
     _bow(ang[0], ang[1], tmp, bow)
     _bow(ang[2], ang[3], tmp, bow)
     jets.lincomb(1.0, out, l0 / 30.0, bow, out)
-    _store(out, 0, D, Dx, Dxx, Dxxx)
+    store(out, 0, NDOF, D, Dx, Dxx, Dxxx)
     for k in range(4):
-        _store(ang[k], 2 + k, D, Dx, Dxx, Dxxx)
+        store(ang[k], 2 + k, NDOF, D, Dx, Dxx, Dxxx)
 
 
 @njit(cache=True)
