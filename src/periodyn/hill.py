@@ -17,9 +17,13 @@ method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s
 using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
 requested until 2n distinct clusters are found. method="dense": all eigenvalues of the
 real form of A (LAPACK; for a chunk of speeds one stacked call, :func:`dense_exponents_batch`).
-method="auto": the cheaper of the two by estimated cost (:func:`choose_method`; the choice
-and its reason are kept on the result). method="monodromy": direct integration over one
-period (periodyn.timedomain). The blocks W, V, Mh come from
+For a system (:func:`characteristic_exponents`) method="auto" takes the 4th-order Magnus
+monodromy with step doubling where its error estimate certifies the verdict at less than
+the estimated cost of Hill (:func:`auto_exponents`, :class:`periodyn.timedomain.MagnusLadder`),
+else the cheaper Hill method by estimated cost (:func:`choose_method`); on an operator or
+spectra alone, "auto" is that Hill choice. The choice and its reason are kept on the
+result. method="monodromy": direct integration over one period (periodyn.timedomain).
+The blocks W, V, Mh come from
 :class:`periodyn.harmonic.HarmonicOperator`.
 """
 
