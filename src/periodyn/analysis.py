@@ -19,8 +19,8 @@ from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
 from .hb import RESIDUAL_MAX, balance_storage, periodic_solution, singular_balance, solve_balance
-from .hill import (FloquetExponents, auto_exponents, check_method, choose_method, dense_exponents_batch, hill_cost,
-                   magnus_reason, method_costs, operator_exponents)
+from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
+                   dense_exponents_batch, hill_cost, magnus_reason, method_costs, operator_exponents)
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
@@ -201,7 +201,7 @@ class SpeedSolver:
         """Magnus exponents (S, 2n) where accepted, method names (S,) and reasons (S,)."""
         hill = self.hill_methods(w)
         seconds = np.array([c for _, _, c in hill])
-        est = self.ladder.solve(w, seconds)
+        est = self.ladder.solve(w, seconds * HILL_TIME_FACTOR)
         first = self.ladder.first_cost(w)
         methods = np.array(["magnus" if ok else h for ok, (h, _, _) in zip(est.accepted, hill)], dtype=object)
         reasons = np.array([magnus_reason(est, i, hill[i][0], seconds[i], first[i]) for i in range(w.size)],

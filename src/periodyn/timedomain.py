@@ -218,7 +218,8 @@ class MagnusLadder:
     least halves per doubling; Richardson's e / 15 was seen to miss by 10x on the
     slider-crank). The largest multiplier is so certified in log|mu|, the others to
     e max|mu| (a strongly damped mode's multiplier far below the largest is resolved
-    absolutely, not in its logarithm). A speed is accepted when e <= STABILITY_TOL and
+    absolutely, not in its logarithm). A speed is accepted when e <= STABILITY_TOL
+    max(1, |G_N|) (relative to a growth above 1 per period, where the verdict is clear) and
     the verdict cannot flip, ``|G_N - STABILITY_TOL| > e``; otherwise N is doubled while
     the estimated cost stays within the speed's budget (and N <= LARGEST).
     """
@@ -281,7 +282,7 @@ class MagnusLadder:
                 top = np.log(fine[:, -1])
                 error = np.maximum(np.abs(top - np.log(coarse[:, -1])), np.abs(fine - coarse).max(axis=1) / fine[:, -1])
                 margin = np.abs(top - STABILITY_TOL)
-                ok = (error <= STABILITY_TOL) & (margin > error)
+                ok = (error <= STABILITY_TOL * np.maximum(1.0, np.abs(top))) & (margin > error)
             for name, value in (("exponents", exps), ("steps", steps), ("error", error), ("margin", margin)):
                 getattr(out, name)[pending] = value
             out.accepted[pending] = ok
