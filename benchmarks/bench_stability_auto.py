@@ -1,13 +1,16 @@
 """Stability method "auto" against each method, one core, measured side by side.
 
-For the pendulum, the slider-crank (2 rod elements) and the slider-crank scaled to more
-rod elements, at several harmonic counts m: speeds per second of
-SpeedSolver.solve_many with stability by "dense", "sparse" and "magnus" Hill/monodromy and
-by "auto", and the ratio of auto's time to the best Hill method's time and to the best
-method's time (magnus included). A method whose estimated time per speed is above the
-budget is skipped ("-").
+1. Every shipped rheo-linear sweep file (pendulum, elliptic pendulum from elements,
+   slider-crank, slider-crank from elements) at its harmonics, and the slider-crank
+   scaled to 4-32 rod elements at m = 4-64: speeds per second of SpeedSolver.solve_many
+   with stability by "dense", "sparse" and "magnus" and by "auto", and the ratio of the
+   best method's rate to auto's (auto/best-Hill: the best of dense and sparse only).
+   A method whose estimated time per speed is above the budget is skipped ("-").
+2. With --sweep: periodyn.sweep of 1000 speeds (fewer for the large model), default
+   options (stability "auto"), on --workers processes, speeds/s (a cold start included
+   when run first).
 
-Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick]
+Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick] [--sweep] [--workers 2]
 """
 
 import os
@@ -23,7 +26,8 @@ import numpy as np  # noqa: E402
 import periodyn  # noqa: E402
 from periodyn.analysis import SpeedSolver  # noqa: E402
 from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
-from periodyn.hill import method_costs  # noqa: E402
+from periodyn.config import load_sweep_file, project_root  # noqa: E402
+from periodyn.hill import _shift_frequencies, method_costs  # noqa: E402
 from periodyn.linearize import omega_split  # noqa: E402
 
 METHODS = ("dense", "sparse", "magnus", "auto")
@@ -51,6 +55,9 @@ def row(name, model, m, omegas, budget, rounds=3):
     solvers = {k: SpeedSolver(model, m, method=k) for k in METHODS}
     if method_costs(solvers["dense"].pattern)[0] > budget:
         del solvers["dense"]
+    per_shift = method_costs(solvers["sparse"].pattern)[1]
+    if per_shift * _shift_frequencies(solvers["sparse"].harmonic.at(omegas[0])).size > budget:
+        del solvers["sparse"]
     count = {k: pilot(s, omegas, budget) for k, s in solvers.items()}
     times = {k: np.inf for k in solvers}
     for _ in range(rounds):
@@ -59,34 +66,63 @@ def row(name, model, m, omegas, budget, rounds=3):
             s.solve_many(omegas[: count[k]])
             times[k] = min(times[k], (time.perf_counter() - t0) / count[k])
     rates = {k: 1.0 / times[k] if k in times else np.nan for k in METHODS}
-    choices = [c for c, _ in solvers["auto"].hill_methods(omegas)]
+    choices = [c for c, _ in solvers["auto"].stability_methods(omegas)]
     auto_choice = "/".join(f"{c} {choices.count(c)}" for c in sorted(set(choices)))
     hill = np.nanmax([rates["dense"], rates["sparse"]])
     best = np.nanmax([rates[k] for k in ("dense", "sparse", "magnus")])
     cells = "".join(f"{rates[k]:10.1f}" if np.isfinite(rates[k]) else f"{'-':>10}" for k in METHODS)
-    print(f"{name:<18}{model.n:4d}{m:4d}{cells}   {hill / rates['auto']:9.2f}  {best / rates['auto']:9.2f}  "
+    print(f"{name:<18}{model.n:4d}{m:4d}{cells}   {hill / rates['auto']:13.2f}  {best / rates['auto']:9.2f}  "
           f"{auto_choice}", flush=True)
+
+
+def shipped(name: str):
+    """Model (last grid point), speeds (rad/s) and harmonics of a shipped sweep file."""
+    spec = load_sweep_file(project_root() / "sweeps" / f"{name}.toml")
+    plan = spec.plan()
+    model = plan.model(**{k: v[-1] for k, v in plan.parameters.items()}) if plan.parameters else plan.model
+    return model, plan.omega, spec.harmonics
+
+
+def sweep_rates(workers: int, rounds: int = 1) -> None:
+    """periodyn.sweep with default options on ``workers`` processes, speeds/s."""
+    w0 = periodyn.examples.pendulum().metadata["omega0"]
+    cases = [("pendulum", periodyn.examples.pendulum(samples=64), np.linspace(0.002, 1.4, 1000) * w0),
+             ("slider-crank", periodyn.examples.slider_crank(damping=0.02), np.linspace(150.0, 300.0, 1000)),
+             ("slider-crank x32", scaled_slider_crank(32), np.linspace(150.0, 300.0, 60))]
+    print(f"\nperiodyn.sweep, m = 12, default options (stability auto), {workers} workers")
+    for name, model, omegas in cases:
+        for _ in range(rounds):
+            t0 = time.perf_counter()
+            ds = periodyn.sweep(model, omegas, 12, workers=workers, progress=False)
+            dt = time.perf_counter() - t0
+            print(f"{name:<18} {omegas.size:5d} speeds {dt:8.2f} s {omegas.size / dt:10.1f} speeds/s   "
+                  f"{ds.attrs['stability_methods'].split(';')[0]}", flush=True)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--budget", type=float, default=3.0, help="seconds per method and case")
     ap.add_argument("--quick", action="store_true", help="fewer cases")
+    ap.add_argument("--sweep", action="store_true", help="also time periodyn.sweep of 1000 speeds")
+    ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args()
+    if args.sweep:
+        sweep_rates(args.workers)
     print(f"{'model':<18}{'n':>4}{'m':>4}" + "".join(f"{k:>10}" for k in METHODS)
-          + "  auto/best-Hill  auto/best  auto's choices   (speeds/s)")
-    w0 = periodyn.examples.pendulum().metadata["omega0"]
-    cases = [("pendulum", lambda p: periodyn.examples.pendulum(samples=p), np.linspace(0.1, 1.4, 200) * w0,
-              (4, 12, 32)),
-             ("slider-crank", lambda p: periodyn.examples.slider_crank(damping=0.02, samples=p),
-              np.linspace(150.0, 300.0, 200), (4, 12, 32, 64))]
+          + "  best-Hill/auto  best/auto  auto's choices   (speeds/s)")
+    cases = [(name, *shipped(name)) for name in ("pendulum", "elliptic_pendulum_elements", "slider_crank",
+                                                 "slider_crank_elements")]
+    for name, model, omegas, m in cases:
+        row(name[:18], model, m, omegas, args.budget)
     if not args.quick:
-        for el in (4, 8):
-            cases.append((f"slider-crank x{el}", lambda p, el=el: scaled_slider_crank(el, p),
-                          np.linspace(150.0, 300.0, 200), (4, 12, 32)))
-    for name, build, omegas, ms in cases:
-        for m in ms:
-            row(name, build(max(64, 4 * m + 8)), m, omegas, args.budget)  # p >= 4m+1: all couplings kept
+        w0 = periodyn.examples.pendulum().metadata["omega0"]
+        for m in (4, 32):
+            row("pendulum", periodyn.examples.pendulum(samples=max(64, 4 * m + 8)), m,
+                np.linspace(0.1, 1.4, 200) * w0, args.budget)
+    speeds = np.linspace(150.0, 300.0, 200)
+    for el in ((2, 4, 8, 16, 32) if not args.quick else (8, 32)):
+        for m in ((4, 12, 32, 64) if not args.quick else (12,)):
+            row(f"slider-crank x{el}", scaled_slider_crank(el, max(64, 4 * m + 8)), m, speeds, args.budget)
 
 
 if __name__ == "__main__":

@@ -19,14 +19,15 @@ from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
 from .hb import RESIDUAL_MAX, balance_storage, periodic_solution, singular_balance, solve_balance
-from .hill import (FloquetExponents, check_method, choose_method, dense_exponents_batch, method_costs,
-                   operator_exponents)
+from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
+                   dense_exponents_batch, hill_cost, magnus_reason, method_costs, operator_exponents)
 from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import synthesize
 from .system import OmegaSplitModel, RheoLinear
-from .timedomain import gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array, monodromy_exponents
+from .timedomain import (MagnusLadder, gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array,
+                         monodromy_exponents)
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
 
@@ -36,7 +37,8 @@ class PointResult:
     """Results at one speed. omega rad/s; output_harmonics (2m+1, n_out) complex, l=-m..m;
     amplitude/mean (n_out,) half peak-to-peak and mean of the outputs; residual: relative
     HB residual; exponents/multipliers (2n,) complex (NaN without stability); max_real 1/s;
-    stable (False also when stability was not computed)."""
+    stable (False also when stability was not computed); method: the stability method
+    used ("" without stability; what "auto" chose) and reason: why."""
 
     omega: float
     output_names: tuple[str, ...]
@@ -48,6 +50,8 @@ class PointResult:
     multipliers: np.ndarray
     max_real: float
     stable: bool
+    method: str = ""
+    reason: str = ""
 
 
 def _point(sol: PeriodicSolution, stability: HillOperator | FloquetExponents | None, method: str,
@@ -57,11 +61,12 @@ def _point(sol: PeriodicSolution, stability: HillOperator | FloquetExponents | N
     if stability is not None:
         fl = stability if isinstance(stability, FloquetExponents) else operator_exponents(stability, method)
         exps, mults, max_real, stable = fl.exponents, fl.multipliers, fl.max_real, fl.stable
+        used, reason = fl.method, fl.reason
     else:
         exps = mults = np.full(2 * n, np.nan + 0j)
-        max_real, stable = float("nan"), False
+        max_real, stable, used, reason = float("nan"), False, "", ""
     return PointResult(sol.omega, sol.output_names, sol.output_harmonics, sol.output_amplitude(), sol.output_mean(),
-                       sol.residual, exps, mults, max_real, stable)
+                       sol.residual, exps, mults, max_real, stable, used, reason)
 
 
 def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, method: str = "auto", *,
@@ -74,6 +79,8 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, meth
     sol = periodic_solution(system, m, form=form, operator=op)
     if method in ("monodromy", "magnus") and stability:
         return _point(sol, monodromy_exponents(system, method), method, system.n)
+    if method == "auto" and stability:
+        return _point(sol, auto_exponents(system, op), method, system.n)
     return _point(sol, op if stability else None, method, system.n)
 
 
@@ -81,7 +88,8 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool = True, meth
 class SpeedBatch:
     """Results at S speeds, columnar (the fields of :class:`PointResult` with a leading
     speed axis). message: (S,) str, empty where the point was solved, else why it failed
-    (its stability entries are then NaN and ``stable`` False)."""
+    (its stability entries are then NaN and ``stable`` False); method: (S,) str, the
+    stability method used at each speed ("" without stability)."""
 
     omega: np.ndarray
     output_names: tuple[str, ...]
@@ -94,6 +102,7 @@ class SpeedBatch:
     max_real: np.ndarray
     stable: np.ndarray
     message: np.ndarray
+    method: np.ndarray
 
     def __len__(self) -> int:
         return self.omega.shape[0]
@@ -114,13 +123,14 @@ class SpeedBatch:
                    *(np.stack([getattr(p, f) for p in filled]) for f in ("output_harmonics", "amplitude", "mean",
                                                                          "residual", "exponents", "multipliers",
                                                                          "max_real", "stable")),
-                   np.asarray(messages, dtype=str))
+                   np.asarray(messages, dtype=str), np.array([p.method if p is not None else "" for p in points],
+                                                             dtype=str))
 
     def point(self, i: int) -> PointResult:
         """The PointResult of speed i."""
         return PointResult(float(self.omega[i]), self.output_names, self.output_harmonics[i], self.amplitude[i],
                            self.mean[i], float(self.residual[i]), self.exponents[i], self.multipliers[i],
-                           float(self.max_real[i]), bool(self.stable[i]))
+                           float(self.max_real[i]), bool(self.stable[i]), str(self.method[i]))
 
 
 _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
@@ -161,21 +171,43 @@ class SpeedSolver:
             theta = gauss_angles(magnus_steps(model.samples))
             self.magnus = magnus_terms(*(synthesize(X, theta) for X in model._power_spectra[:3]))[0]
         self.dense_hill = stability and self.method in ("dense", "auto")  # stacked dense Hill possible
+        self.ladder = MagnusLadder(*model._power_spectra[:3]) if stability and self.method == "auto" else None
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
         return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.method == "dense")
 
-    def hill_methods(self, omegas) -> list[tuple[str, str]]:
-        """Stability method at each speed (rad/s) and why: "auto" chooses per speed by
-        estimated cost (:func:`periodyn.hill.choose_method`), as the per-speed path does."""
+    def hill_methods(self, omegas) -> list[tuple[str, str, float]]:
+        """Hill method at each speed (rad/s), why, and its estimated seconds: "auto"
+        chooses per speed by estimated cost (:func:`periodyn.hill.choose_method`), as the
+        per-speed path does."""
+        w = check_speeds(omegas)
+        if self.method != "auto":
+            return [(self.method, "requested", np.inf)] * w.size
+        dense, per_shift = method_costs(self.pattern)
+        if dense <= per_shift:  # no speed dependence: even one ARPACK shift costs more
+            method, seconds, reason = hill_cost(self.harmonic.at(w[0]))
+            return [(method, reason, seconds)] * w.size
+        return [(m, r, c) for m, c, r in (hill_cost(self.harmonic.at(wi)) for wi in w)]
+
+    def stability_methods(self, omegas) -> list[tuple[str, str]]:
+        """Stability method at each speed (rad/s) and why (for "auto": Magnus where its
+        error estimate certifies the verdict within Hill's estimated cost, else Hill)."""
         w = check_speeds(omegas)
         if self.method != "auto":
             return [(self.method, "requested")] * w.size
-        dense, per_shift = method_costs(self.pattern)
-        if dense <= per_shift:  # no speed dependence: even one ARPACK shift costs more
-            return [choose_method(self.harmonic.at(w[0]))] * w.size
-        return [choose_method(self.harmonic.at(wi)) for wi in w]
+        return [(m, r) for m, r in zip(*self._auto(w)[1:])]
+
+    def _auto(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Magnus exponents (S, 2n) where accepted, method names (S,) and reasons (S,)."""
+        hill = self.hill_methods(w)
+        seconds = np.array([c for _, _, c in hill])
+        est = self.ladder.solve(w, seconds * HILL_TIME_FACTOR)
+        first = self.ladder.first_cost(w)
+        methods = np.array(["magnus" if ok else h for ok, (h, _, _) in zip(est.accepted, hill)], dtype=object)
+        reasons = np.array([magnus_reason(est, i, hill[i][0], seconds[i], first[i]) for i in range(w.size)],
+                           dtype=object)
+        return est.exponents, methods, reasons
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
@@ -232,8 +264,9 @@ class SpeedSolver:
                                    residual=float(residual[i]), iterations=1)
         return q, residual
 
-    def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Exponents (S, 2n) (NaN where failed) and failure messages (S,) at speeds w."""
+    def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
+        (S,) at speeds w."""
         n, m = self.model.n, self.m
         exps = np.full((w.size, 2 * n), np.nan + 0j)
         message = np.full(w.size, "", dtype=object)
@@ -249,8 +282,13 @@ class SpeedSolver:
                 message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is singular: a mode decays "
                               "by more than 1e-308 in one period, so its exponent is not determined; use Hill's "
                               "method (method='dense' or 'sparse') or check the model's damping")
-            return exps, message
-        methods = np.array([name for name, _ in self.hill_methods(w)])
+            return exps, message, np.full(w.size, "magnus", dtype=object)
+        if self.ladder is not None:
+            magnus, methods, _ = self._auto(w)
+            accepted = methods == "magnus"
+            exps[accepted] = magnus[accepted]
+        else:
+            methods = np.array([name for name, _, _ in self.hill_methods(w)], dtype=object)
         dense = np.nonzero(methods == "dense")[0]
         if dense.size:
             exps[dense], _, found = dense_exponents_batch(self.harmonic.real_first_order_many(w[dense]), w[dense], m, n)
@@ -258,7 +296,7 @@ class SpeedSolver:
                 exps[i] = np.nan
                 message[i] = (f"Hill's method with m = {m} resolved {found[dense == i][0]} of {2 * n} exponent "
                               f"clusters at omega = {w[i]:.6g} rad/s; increase harmonics")
-        for i in np.nonzero(methods != "dense")[0]:
+        for i in np.nonzero((methods != "dense") & (methods != "magnus"))[0]:
             try:
                 if methods[i] == "monodromy":
                     exps[i] = monodromy_exponents(self.model.at(w[i])).exponents
@@ -273,7 +311,7 @@ class SpeedSolver:
             message[i] = (f"an exponent at omega = {w[i]:.6g} rad/s has Re(lambda) T = {growth[i]:.3g}, beyond the "
                           "range of the multiplier exp(lambda T): the model's coefficients are out of the range the "
                           "solver resolves (rescale it or add harmonics)")
-        return exps, message
+        return exps, message, methods
 
     def _solve_chunk(self, w: np.ndarray) -> SpeedBatch:
         q, residual = self._balance(w)
@@ -283,15 +321,16 @@ class SpeedSolver:
         M = (H - 1) // 2
         harmonics = spectrum[:, M - self.m: M + self.m + 1]
         if self.stability:
-            exps, message = self._stability(w)
+            exps, message, methods = self._stability(w)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
             stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
         else:
             exps = multipliers = np.full((S, 2 * self.model.n), np.nan + 0j)
             max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)
+            methods = message
         return SpeedBatch(w, self.model.output_names, harmonics, half.reshape(S, n_out), mean.reshape(S, n_out),
-                          residual, exps, multipliers, max_real, stable, message.astype(str))
+                          residual, exps, multipliers, max_real, stable, message.astype(str), methods.astype(str))
 
 
 def check_speeds(omegas) -> np.ndarray:

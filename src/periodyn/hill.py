@@ -17,14 +17,19 @@ method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s
 using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
 requested until 2n distinct clusters are found. method="dense": all eigenvalues of the
 real form of A (LAPACK; for a chunk of speeds one stacked call, :func:`dense_exponents_batch`).
-method="auto": the cheaper of the two by estimated cost (:func:`choose_method`; the choice
-and its reason are kept on the result). method="monodromy": direct integration over one
-period (periodyn.timedomain). The blocks W, V, Mh come from
+For a system (:func:`characteristic_exponents`) method="auto" takes the 4th-order Magnus
+monodromy with step doubling where its error estimate certifies the verdict at less than
+the estimated cost of Hill (:func:`auto_exponents`, :class:`periodyn.timedomain.MagnusLadder`),
+else the cheaper Hill method by estimated cost (:func:`choose_method`); on an operator or
+spectra alone, "auto" is that Hill choice. The choice and its reason are kept on the
+result. method="monodromy": direct integration over one period (periodyn.timedomain).
+The blocks W, V, Mh come from
 :class:`periodyn.harmonic.HarmonicOperator`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from functools import lru_cache
 
 import numpy as np
@@ -33,15 +38,15 @@ import scipy.sparse.linalg as spla
 from threadpoolctl import threadpool_limits
 
 from .errors import ConvergenceError, InputError
-from .floquet import FloquetExponents
+from .floquet import STABILITY_TOL, FloquetExponents
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import BlockPattern, from_real_basis
 from .kernels.floquet import select_clusters, select_clusters_batch
 from .system import RheoLinear
-from .timedomain import monodromy_exponents
+from .timedomain import MagnusLadder, monodromy_exponents
 
 __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method",
-           "method_costs"]
+           "method_costs", "hill_cost", "auto_exponents"]
 
 METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
 
@@ -97,13 +102,56 @@ def choose_method(op: HillOperator) -> tuple[str, str]:
     cost of dense (all eigenvalues, ~D^3 for D = 2N) and sparse (one shift-invert ARPACK
     run per shift; the shifts cover the mean system's frequencies in steps of m omega / 2,
     so a stiff system with few harmonics needs many)."""
+    method, _, reason = hill_cost(op)
+    return method, reason
+
+
+def hill_cost(op: HillOperator) -> tuple[str, float, str]:
+    """:func:`choose_method` with the estimated seconds of the chosen Hill method."""
     dense, per_shift, cheap = _costs(op.pattern.size, op.pattern.half_bandwidth, op.n)
     if dense <= per_shift:
-        return "dense", cheap
+        return "dense", dense, cheap
     size = f"size {2 * op.pattern.size}, band {op.pattern.half_bandwidth}"
     shifts = _shift_frequencies(op).size
     method = "dense" if dense <= shifts * per_shift else "sparse"
-    return method, f"estimated dense {dense:.2g} s vs sparse {shifts * per_shift:.2g} s ({shifts} shifts, {size})"
+    return (method, min(dense, shifts * per_shift),
+            f"estimated dense {dense:.2g} s vs sparse {shifts * per_shift:.2g} s ({shifts} shifts, {size})")
+
+
+#: Measured time of the dense Hill path (eigenvectors, basis change, cluster selection) over
+#: its estimate _DENSE_COST, which counts the eigen-solve: 5-20x on the pendulum (D = 18-130)
+#: and about 14x on the slider-crank (D = 200); Magnus may spend this multiple of Hill's estimate.
+HILL_TIME_FACTOR = 4.0
+
+
+def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float) -> str:
+    """Why "auto" took Magnus or Hill at speed i of a :class:`MagnusEstimate`."""
+    if est.accepted[i]:
+        return (f"Magnus with {est.steps[i]} steps: estimated error {est.error[i]:.1g} (tolerance {STABILITY_TOL:g}) "
+                f"and verdict margin {est.margin[i]:.2g}; estimated {first_cost:.2g} s vs {hill} Hill "
+                f"{hill_seconds:.2g} s")
+    if est.steps[i] == 0:
+        return f"{hill} Hill: estimated {hill_seconds:.2g} s <= Magnus {first_cost:.2g} s"
+    return (f"{hill} Hill: the Magnus estimate did not certify the verdict within {HILL_TIME_FACTOR:g} x "
+            f"{hill_seconds:.2g} s "
+            f"({est.steps[i]} steps: error {est.error[i]:.1g}, margin {est.margin[i]:.2g})")
+
+
+def auto_exponents(system: RheoLinear, op: HillOperator) -> FloquetExponents:
+    """Stability method "auto" at one system: Magnus with step doubling where its error
+    estimate certifies the verdict within the estimated cost of the cheaper Hill method
+    (:class:`periodyn.timedomain.MagnusLadder`), else that Hill method; the choice and
+    its reason are on the result."""
+    hill, seconds, _ = hill_cost(op)
+    S = system.spectra
+    ladder = MagnusLadder(S.mass, S.damping[..., None], S.stiffness[..., None])
+    w = np.array([float(system.omega)])
+    est = ladder.solve(w, np.array([seconds * HILL_TIME_FACTOR]))
+    reason = magnus_reason(est, 0, hill, seconds, float(ladder.first_cost(w)[0]))
+    if est.accepted[0]:
+        nan = np.full(2 * system.n, np.nan)
+        return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus", reason=reason)
+    return dataclasses.replace(operator_exponents(op, hill), reason=reason)
 
 
 def _dense_eigs(op: HillOperator):
@@ -242,12 +290,15 @@ def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "
 
     method: "sparse" (ARPACK shift-invert subset), "dense" (all Hill eigenvalues),
     "monodromy" (adaptive integration over one period, the reference), "magnus"
-    (fixed-step 4th-order Magnus monodromy, fast for small stiff systems), "auto" (dense
-    or sparse Hill, whichever is estimated cheaper; see ``.method`` and ``.reason``);
+    (fixed-step 4th-order Magnus monodromy, fast for small stiff systems), "auto" (Magnus
+    with step doubling where its error estimate certifies the verdict at less than the
+    estimated cost of Hill, else dense or sparse Hill, whichever is estimated cheaper;
+    see ``.method`` and ``.reason``);
     ``harmonics`` is unused by the two monodromy methods.
     form: "direct" (Hill on M, C, K) or "inverse-mass" (the paper's eq. 26-27 on P, Q).
     """
     method = check_method(method)
     if method in ("monodromy", "magnus"):
         return monodromy_exponents(system, method)
-    return operator_exponents(HarmonicOperator.for_system(system, harmonics, form).at(system.omega), method)
+    op = HarmonicOperator.for_system(system, harmonics, form).at(system.omega)
+    return auto_exponents(system, op) if method == "auto" else operator_exponents(op, method)

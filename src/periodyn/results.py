@@ -15,6 +15,7 @@ variable                dims                                meaning
 ``stable``              (*P, omega)                         max_real_exponent < 0
 ``status``              (*P, omega)                         0 solved, 1 failed (see ``message``)
 ``message``             (*P, omega)                         why a point failed ('' if solved)
+``stability_method``    (*P, omega)                         stability method used ("auto" chooses per point)
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
@@ -147,6 +148,8 @@ _LAYOUT = (
                                                                                  dtype=np.int8),
       "flag_meanings": "solved failed"}),
     ("message", (), "", {"long_name": "why the point failed, empty if solved"}),
+    ("stability_method", (), "", {"long_name": "stability method used at the point (what method 'auto' chose; "
+                                               "empty without stability or where the point failed)"}),
 )
 
 

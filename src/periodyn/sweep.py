@@ -160,6 +160,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
              **options_attrs(options), "backend": backend, "workers": workers if backend != "serial" else 1,
              "points": total, "points_computed": int(len(pending)),
              "failed_points": int((collected.arrays["status"] != STATUS_SOLVED).sum()),
+             "stability_methods": _method_counts(collected.arrays["stability_method"], method, stability),
              "elapsed_s": time.perf_counter() - started,
              "package_versions": json.dumps(package_versions(), sort_keys=True),
              "sweep_file_text": output.sweep_file_text or ""}
@@ -170,6 +171,20 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     if checkpoint is not None:
         checkpoint.finish(ds)
     return ds
+
+
+AUTO_RULE = ("auto: Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
+             "below the stability tolerance and the verdict cannot flip, at less than the estimated cost of Hill; "
+             "else dense or sparse Hill, whichever is estimated cheaper (per point: variable stability_method)")
+
+
+def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:
+    """Dataset attribute: how many points each stability method served, and auto's rule."""
+    if not stability:
+        return "none (stability off)"
+    names, counts = np.unique(np.asarray(methods, dtype=str), return_counts=True)
+    text = ", ".join(f"{name or 'failed'} {count}" for name, count in zip(names, counts))
+    return f"{text}; {AUTO_RULE}" if method == "auto" else text
 
 
 def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=None, resume: bool = False,

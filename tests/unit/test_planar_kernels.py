@@ -190,3 +190,27 @@ def test_per_sample_linearization_matches_numpy_twin():
     for x in X[[1, 3, 6]]:
         for g, t in zip(kernel_sample(model, x, qdot, qddot), motion_twin(model, x, qdot, qddot)):
             np.testing.assert_allclose(g, t, rtol=0, atol=1e-13 * np.abs(t).max())
+
+
+def test_adjoint_curvature_term_equals_the_direct_second_derivative_form():
+    """reduced_sample forms sum_k r_k F_{q^d q^d}[k] as -mu . Phi_xx[F_d, F_d] with the
+    constraint forces mu = J^-T r; the direct form contracts r with all n_d^2 second
+    derivatives of the transfer function (assembly.motion's Fdd)."""
+    from periodyn.kernels import assembly
+
+    model = slider_crank_model(kelvin_voigt=5e-5, rod_elements=6, rotary_inertia_per_length=1e-4)
+    n, nd = model.n_coordinates, model.n_dynamic
+    X = nominal_configurations(model, 8)
+    rng = np.random.default_rng(3)
+    qdot = np.concatenate([[180.0], 0.3 * rng.standard_normal(nd)])
+    qddot = np.concatenate([[40.0], rng.standard_normal(nd)])
+    for x in X[[0, 2, 5]]:
+        Mb, Cb, Kb, fd = kernel_sample(model, x, qdot, qddot)
+        v, a, Fd, Fdv, Fda = np.empty(n), np.empty(n), np.empty((n, nd)), np.empty((n, nd)), np.empty((n, nd))
+        Fdd = np.empty((n, nd, nd))
+        D, Dx, Dxx = assembly.motion(model.arrays, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda)
+        M, r, C, K = np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty((n, n))
+        assembly.nodal_arrays(model.arrays, x, v, a, D, Dx, Dxx, M, r, C, K)
+        direct = Fd.T @ K @ Fd + (M @ Fd).T @ Fda + Fd.T @ C @ Fdv + np.einsum("k,kij->ij", r, Fdd)
+        assert np.abs(np.einsum("k,kij->ij", r, Fdd)).max() > 1e-3 * np.abs(direct).max()  # the term matters
+        np.testing.assert_allclose(Kb, direct, rtol=0, atol=1e-12 * np.abs(direct).max())

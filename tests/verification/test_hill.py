@@ -80,7 +80,7 @@ def test_centred_representative_is_the_physical_frequency():
     """Weak parametric excitation: the chosen exponents sit at +-i w_n, not folded into
     the strip |Im| <= w/2 as the principal logarithm of the monodromy method is."""
     sys = mathieu(a=9.0, q=0.05, zeta=0.01)  # w_n = 3 = 1.5 omega
-    ex = periodyn.characteristic_exponents(sys, 12)
+    ex = periodyn.characteristic_exponents(sys, 12, "dense")
     np.testing.assert_allclose(np.sort(np.abs(ex.exponents.imag)), [3.0, 3.0], rtol=1e-3)
     assert np.all(np.abs(ex.principal.imag) <= 1.0 + 1e-12)
     assert np.all(np.abs(ex.centroid) < 0.5)
@@ -91,8 +91,8 @@ def test_edge_energy_indicates_truncation_error():
     truncation edge and the exponents are wrong; the edge indicator says so."""
     sys = mathieu(a=1.0, q=4.0, zeta=0.01, samples=64)
     mono = periodyn.characteristic_exponents(sys, 0, "monodromy")
-    coarse = periodyn.characteristic_exponents(sys, 2)
-    fine = periodyn.characteristic_exponents(sys, 20)
+    coarse = periodyn.characteristic_exponents(sys, 2, "dense")
+    fine = periodyn.characteristic_exponents(sys, 20, "dense")
     assert coarse.edge.max() > 1e-3
     assert fine.edge.max() < 1e-12
     assert_same_spectrum(fine.multipliers, mono.multipliers, atol=1e-8)

@@ -118,7 +118,7 @@ def test_unresolved_clusters_are_reported_per_speed(monkeypatch):
         found[omegas == 2.0] = count - 1  # pretend omega = 2 resolved one cluster too few
 
     monkeypatch.setattr(hill, "select_clusters_batch", lose_one)
-    solver = SpeedSolver(periodyn.examples.pendulum(samples=36), 6)
+    solver = SpeedSolver(periodyn.examples.pendulum(samples=36), 6, method="dense")  # the Hill path
     batch = solver.solve_many([1.0, 2.0, 3.0])
     assert list(batch.message != "") == [False, True, False]
     assert "resolved 1 of 2 exponent clusters" in batch.message[1] and "increase harmonics" in batch.message[1]

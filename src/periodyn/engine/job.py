@@ -143,6 +143,7 @@ class Job:
         with np.errstate(all="ignore"):  # overflow becomes a failed point with its reason (below)
             self._solve_into(out, located)
         out["message"] = out["message"].astype(str)
+        out["stability_method"] = out["stability_method"].astype(str)
         return out
 
     def _solve_into(self, out: dict[str, np.ndarray], located: tuple[np.ndarray, ...]) -> None:
@@ -187,7 +188,8 @@ class Job:
         for name, column in (("amplitude", batch.amplitude), ("mean", batch.mean),
                              ("harmonics", batch.output_harmonics), ("residual", batch.residual),
                              ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
-                             ("multipliers", batch.multipliers), ("stable", batch.stable)):
+                             ("multipliers", batch.multipliers), ("stable", batch.stable),
+                             ("stability_method", batch.method)):
             out[name][rows[solved]] = column[solved]
         out["status"][rows[solved]] = STATUS_SOLVED
 

