@@ -20,6 +20,7 @@ from ..errors import InputError
 from ..floquet import FloquetExponents
 from ..periodic import PeriodicSolution
 from ..spectra import fourier_coefficients
+from .implicit import STEPS, implicit_shooting
 from .integrate import consistent_state, integrate
 from .newton import newton
 
@@ -140,7 +141,8 @@ def start_state(system, guess, omega, params=None):
 
 
 def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle_periods: int = 0, tol: float = 1e-9,
-             max_iter: int = 30, rtol: float = 1e-11, samples: int = 128, params=None) -> PeriodicSolution:
+             max_iter: int = 30, rtol: float = 1e-11, samples: int = 128, params=None, method: str = "adaptive",
+             steps: int = STEPS) -> PeriodicSolution:
     """Periodic solution of ``system`` at ``omega`` (rad/s) by shooting.
 
     initial: PeriodicSolution (e.g. from ``ihb``), a full state (q, qd), or None (rest at
@@ -148,10 +150,19 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     tol: residual max-norm of the independent state (m, rad, m/s, rad/s). The result has
     spectra of q and lambda from ``samples`` points of the orbit and the monodromy
     multipliers (2(n - m),). Raises ConvergenceError when Newton fails.
+
+    method: "adaptive" (scipy integration at rtol, finite-difference monodromy) or
+    "implicit" (element models only: ``steps`` trapezoidal steps per period in Numba with
+    the exact monodromy of the discrete map, :mod:`periodyn.nonlinear.implicit`).
     """
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
+    if method not in ("adaptive", "implicit"):
+        raise InputError(f"method must be 'adaptive' or 'implicit', got {method!r}")
     q, qd = start_state(system, initial, omega, params)
+    if method == "implicit":
+        return implicit_shooting(system, omega, q, qd, subharmonic=subharmonic, steps=steps,
+                                 settle_periods=settle_periods, tol=tol, max_iter=max_iter, samples=samples, params=params)
     if settle_periods:
         T = 2 * np.pi * subharmonic / omega
         th = integrate(system, omega, (0.0, settle_periods * T), q, qd, t_eval=[settle_periods * T], params=params,
