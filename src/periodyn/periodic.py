@@ -69,7 +69,9 @@ class PeriodicSolution:
     Newton steps (0 for the linear solve); method: "hb", "ihb" or "shooting"; subharmonic:
     nu (orbit period 2 pi nu / omega); lambda_harmonics: (2m+1, n_c) constraint forces of a
     DAE (N or N m), None otherwise; stability: the orbit's FloquetExponents, or None when
-    not computed; parameters: model parameters the solution belongs to.
+    not computed; parameters: model parameters the solution belongs to;
+    discretization_error: estimated relative error of q of a fixed-step shooting orbit
+    (``shooting(..., method="implicit")``), None for the other methods.
     """
 
     omega: float
@@ -86,6 +88,7 @@ class PeriodicSolution:
     constraint_names: tuple[str, ...] = ()
     stability: Any = None
     parameters: Mapping[str, float] = field(default_factory=dict)
+    discretization_error: float | None = None
 
     @property
     def m(self) -> int:

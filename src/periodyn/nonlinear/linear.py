@@ -36,7 +36,8 @@ def ode(n: int, force, force_jacobians, coordinate_names, name: str):
 
 def rheo_linear_dae(system, *, name: str = "rheo_linear"):
     """ODE ``periodyn.DAE`` (n = system.n, m = 0, unit mass) of the rheo-linear system at
-    its own omega; the omega passed to the solvers must be ``system.omega``."""
+    its own omega; the omega passed to the solvers must be ``system.omega``. The result
+    keeps the system as ``rheo_linear``."""
     S = system.inverse_mass_spectra
 
     def coefficients(t):
@@ -51,4 +52,6 @@ def rheo_linear_dae(system, *, name: str = "rheo_linear"):
         Pt, Qt, _ = coefficients(t)
         return -Qt, -Pt
 
-    return ode(system.n, force, force_jacobians, system.coordinate_names, name)
+    dae = ode(system.n, force, force_jacobians, system.coordinate_names, name)
+    dae.rheo_linear = system  # for shooting(..., method="implicit")
+    return dae

@@ -24,6 +24,7 @@ from ..errors import ConvergenceError, InputError
 from ..floquet import FloquetExponents
 from ..periodic import PeriodicSolution
 from ..spectra import fourier_coefficients
+from .implicit import STEPS, implicit_shooting
 from .integrate import accelerations, consistent_state
 from .newton import newton
 from .variational import flow
@@ -323,7 +324,7 @@ def cyclic_indices(system, cyclic) -> list[int]:
 
 def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle_periods: int | None = None,
              segments: int = 1, cyclic=(), tol: float = 1e-9, max_iter: int = 30, rtol: float = 1e-11,
-             samples: int = 128, params=None, method: str = "DOP853") -> PeriodicSolution:
+             samples: int = 128, params=None, method: str = "DOP853", steps: int = STEPS) -> PeriodicSolution:
     """Periodic solution of ``system`` at ``omega`` (rad/s) by single or multiple shooting.
 
     initial: PeriodicSolution (e.g. from ``ihb``), a full state (q, qd), or None (rest at
@@ -333,7 +334,9 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     shooting for long periods or strongly unstable orbits). cyclic: names or indices of
     angle coordinates compared modulo 2 pi (rotating or 2 pi-shifted orbits). tol:
     residual max-norm of the independent states (m, rad, m/s, rad/s); method: "DOP853"
-    or an implicit "Radau"/"BDF" (stiff models; analytic Jacobian). The result has spectra
+    or an implicit "Radau"/"BDF" (stiff models; analytic Jacobian), or "implicit" (element
+    and rheo-linear models, one segment: ``steps`` trapezoidal steps per period in Numba
+    with the exact monodromy of the discrete map, :mod:`periodyn.nonlinear.implicit`). The result has spectra
     of q and lambda from ``samples`` points of the orbit and the monodromy multipliers
     (2(n - m),). Raises ConvergenceError saying what was tried when no start converges.
     """
@@ -344,6 +347,13 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     P = system.parameters if params is None else params
     cyc = cyclic_indices(system, cyclic)
     q, qd = start_state(system, initial, omega, P)
+    if method == "implicit":
+        if int(segments) != 1 or cyc:
+            raise InputError("method='implicit' shoots one segment without cyclic coordinates; use segments=1 "
+                             "and cyclic=(), or an adaptive method ('DOP853', 'Radau', 'BDF')")
+        return implicit_shooting(system, omega, q, qd, subharmonic=subharmonic, steps=steps,
+                                 settle_periods=settle_periods or 0, tol=tol, max_iter=max_iter, samples=samples,
+                                 params=params)
     tried = []
     plans = [settle_periods] if settle_periods else [400] if initial is None else [0, 400]
     for periods in plans:
