@@ -73,9 +73,13 @@ def worker_environment() -> Iterator[None]:
     re-running the caller's script: the job reaches workers by cloudpickle, so a script
     lacking an ``if __name__ == "__main__"`` guard must not be executed again in them
     (with spawn and forkserver, multiprocessing re-imports ``__main__`` from its
-    ``__file__`` in every child)."""
-    saved = {k: os.environ.get(k) for k in WORKER_THREAD_ENV}
-    os.environ.update(WORKER_THREAD_ENV)
+    ``__file__`` in every child). NUMBA_NUM_THREADS stays as it is here: Numba re-reads
+    it in this process whenever a module with jitted functions is imported, and refuses
+    a value other than the one its thread pool was launched with; the workers call
+    :func:`limit_threads` instead."""
+    env = {k: v for k, v in WORKER_THREAD_ENV.items() if k != "NUMBA_NUM_THREADS"}
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
     main = sys.modules["__main__"]
     main_file = main.__dict__.pop("__file__", None) if getattr(main, "__spec__", None) is None else None
     try:

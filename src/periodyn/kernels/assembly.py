@@ -289,8 +289,9 @@ def add_adjoint_curvature(arr, Dxx, mu, Fd, Kb):
     -sum_rows mu_row Phi_row,xx[F_d, F_d], contracted element by element on the rows of
     F_d at the element's coordinates (only deformation-mode rows have curvature)."""
     nd = Fd.shape[1]
-    H = np.zeros((MAX_DOF, MAX_DOF))
-    G = np.zeros((MAX_DOF, nd))
+    width = arr.dofs.shape[1]
+    H = np.zeros((width, width))
+    G = np.zeros((width, nd))
     for e in range(arr.family.shape[0]):
         ne = arr.ndof[e]
         H[:] = 0.0

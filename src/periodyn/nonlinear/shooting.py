@@ -31,6 +31,7 @@ from .variational import flow
 
 __all__ = ["ShootingProblem", "cyclic_indices", "settle", "shooting", "start_state"]
 
+SHOOTING_METHODS = ("DOP853", "Radau", "BDF", "implicit")
 _FD_REL = 1e-6  # relative step of the parameter derivative of a consistent start state
 
 
@@ -344,6 +345,9 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
     if int(segments) < 1 or int(subharmonic) < 1:
         raise InputError(f"segments and subharmonic must be integers >= 1, got {segments}, {subharmonic}")
+    if method not in SHOOTING_METHODS:
+        raise InputError(f"shooting method must be one of {SHOOTING_METHODS}, got {method!r}: 'DOP853' for "
+                         "non-stiff systems, 'Radau'/'BDF' or 'implicit' (element models) for stiff ones")
     P = system.parameters if params is None else params
     cyc = cyclic_indices(system, cyclic)
     q, qd = start_state(system, initial, omega, P)
