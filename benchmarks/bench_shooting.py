@@ -10,11 +10,19 @@ especially for stiff systems):
   element model's non-linear equations (4), amplitude (half peak-to-peak) of the rod's
   midpoint deflection over its length.
 
-For each: the time of the linearized sweep (m = 12 harmonics, p = 64 samples, no
-stability), the time of shooting at every speed (started from the EGA-IHB orbit, which is
-timed with it; multipliers from the monodromy matrix come with it), their ratio (target
->= 100), the non-linear time per speed (target for the slider-crank <= 1 s), and the
-largest relative amplitude difference over the grid (speeds chosen away from resonance).
+For each: the time of the linearized sweep (m = 12 harmonics, p = 64 samples, with the
+sweep's default stability, as shooting delivers multipliers too), the time of the best
+shooting periodyn offers for that example at every speed, their ratio (target >= 100), the
+non-linear time per speed (target for the slider-crank <= 1 s), and the largest relative
+amplitude difference over the grid (speeds chosen away from resonance). Shooting arms:
+
+- "DOP853 from IHB": adaptive explicit shooting (rtol 1e-9, Newton tol 1e-8) started from
+  the EGA-IHB orbit (12 harmonics), both timed: the only shooting of a hand-written DAE;
+- "implicit from HB": ``method="implicit"`` (element models: trapezoidal one-period map in
+  Numba, Richardson-extrapolated harmonics, default steps) started from the linearized
+  harmonic-balance orbit at that speed (timed), no IHB; for the element pendulum both arms
+  run and the faster is the one compared. ``--adaptive`` adds the DOP853 arm for the
+  slider-crank too (about a minute per speed).
 
 Run: python benchmarks/bench_shooting.py [--quick]   (or: periodyn bench shooting)
 """
@@ -47,13 +55,25 @@ def _midpoint_amplitude(system, solution, samples=64):
     return half_range_and_mean(fourier_coefficients(y, (samples - 1) // 2))[0][0]
 
 
-def _nonlinear(system, omega, amplitude):
-    """Shooting at every speed from the IHB orbit: (seconds, amplitudes, Newton iterations)."""
+def _adaptive(system, lin_model, w):
+    guess = periodyn.ihb(system, w, 12, stability=None)
+    return periodyn.shooting(system, w, initial=guess, tol=1e-8, rtol=1e-9)
+
+
+def _implicit(system, lin_model, w):
+    guess = periodyn.periodic_solution(lin_model.at(w), 12)
+    return periodyn.shooting(system, w, initial=guess, method="implicit")
+
+
+ARMS = {"DOP853 from IHB": _adaptive, "implicit from HB": _implicit}
+
+
+def _nonlinear(arm, system, lin_model, omega, amplitude):
+    """Shooting at every speed: (seconds, amplitudes, Newton iterations)."""
     start = time.perf_counter()
     amps, its = [], []
     for w in omega:
-        guess = periodyn.ihb(system, float(w), 12, stability=None)
-        sol = periodyn.shooting(system, float(w), initial=guess, tol=1e-8, rtol=1e-9)
+        sol = ARMS[arm](system, lin_model, float(w))
         amps.append(amplitude(system, sol))
         its.append(sol.iterations)
     return time.perf_counter() - start, np.array(amps), its
@@ -61,39 +81,44 @@ def _nonlinear(system, omega, amplitude):
 
 def _linear(model, omega, output):
     start = time.perf_counter()
-    ds = periodyn.sweep(model, omega, 12, 64, stability=False, progress=False)
+    ds = periodyn.sweep(model, omega, 12, 64, progress=False)
     seconds = time.perf_counter() - start
     return seconds, ds["amplitude"].sel(output=output).values
 
 
-def main(quick: bool) -> None:
+def main(quick: bool, adaptive: bool) -> None:
+    both = tuple(ARMS)
     cases = [
         ("pendulum eq. (29) vs (28)", periodyn.examples.pendulum(samples=64), "phi", periodyn.examples.pendulum_nonlinear(),
-         lambda s, sol: sol.amplitude()[0], W0 * PENDULUM_GRID),
+         lambda s, sol: sol.amplitude()[0], W0 * PENDULUM_GRID, both[:1]),
         ("pendulum from elements", pendulum_from_elements(samples=64), "pendulum",
-         periodyn.element_dae(elliptic_pendulum_model()), lambda s, sol: sol.amplitude()[0], W0 * PENDULUM_GRID),
+         periodyn.element_dae(elliptic_pendulum_model()), lambda s, sol: sol.amplitude()[0], W0 * PENDULUM_GRID, both),
         ("slider-crank, 2 % damping", slider_crank(0.02, 64), "midpoint_deflection", slider_crank_nonlinear(0.02),
-         _midpoint_amplitude, np.array([160.0, 180.0, 240.0, 290.0])),
+         _midpoint_amplitude, np.array([160.0, 180.0, 240.0, 290.0]), both if adaptive else both[1:]),
     ]
     print(f"load average at start: {os.getloadavg()[0]:.2f} (2 idle cores needed for clean timings)")
-    print(f"{'example':28s} {'speeds':>6s} {'linear s':>9s} {'shooting s':>10s} {'ratio':>8s} {'s/speed':>8s} "
-          f"{'max |dA|/A':>10s}  Newton iterations")
-    for name, lin_model, output, system, amplitude, omega in cases:
+    print(f"{'example':28s} {'shooting':17s} {'speeds':>6s} {'linear s':>9s} {'shooting s':>10s} {'ratio':>8s} "
+          f"{'s/speed':>8s} {'max |dA|/A':>10s}  Newton iterations")
+    for name, lin_model, output, system, amplitude, omega, arms in cases:
         if quick:
             omega = omega[:2]
-        _linear(lin_model, omega[:1], output)  # compile and warm up both arms
-        periodyn.ihb(system, float(omega[0]), 12, stability=None)
+        _linear(lin_model, omega[:1], output)  # compile and warm up every arm
+        for arm in arms:
+            ARMS[arm](system, lin_model, float(omega[0]))
         t_lin, a_lin = _linear(lin_model, omega, output)
-        t_nl, a_nl, its = _nonlinear(system, omega, amplitude)
-        diff = np.max(np.abs(a_nl - a_lin) / np.abs(a_lin))
-        print(f"{name:28s} {len(omega):6d} {t_lin:9.3f} {t_nl:10.2f} {t_nl / t_lin:8.0f} {t_nl / len(omega):8.2f} "
-              f"{diff:10.3%}  {its}", flush=True)
+        for arm in arms:
+            t_nl, a_nl, its = _nonlinear(arm, system, lin_model, omega, amplitude)
+            diff = np.max(np.abs(a_nl - a_lin) / np.abs(a_lin))
+            print(f"{name:28s} {arm:17s} {len(omega):6d} {t_lin:9.3f} {t_nl:10.2f} {t_nl / t_lin:8.0f} "
+                  f"{t_nl / len(omega):8.3f} {diff:10.3%}  {its}", flush=True)
         for w, a, b in zip(omega, a_lin, a_nl):
-            print(f"    omega = {w:8.3f} rad/s   amplitude linearized {a:.6g}   non-linear {b:.6g}")
+            print(f"    omega = {w:8.3f} rad/s   amplitude linearized {a:.6g}   non-linear ({arm}) {b:.6g}")
     print(f"load average at end: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="two speeds per example")
-    main(parser.parse_args().quick)
+    parser.add_argument("--adaptive", action="store_true", help="also shoot the slider-crank with DOP853 from IHB")
+    args = parser.parse_args()
+    main(args.quick, args.adaptive)

@@ -159,3 +159,29 @@ def test_shooting_that_does_not_converge_is_reported():
     with pytest.raises(ConvergenceError) as err:
         periodyn.shooting(dae, 0.95 * np.sqrt(9.81), max_iter=1, tol=1e-14)
     assert err.value.iterations >= 1 and np.isfinite(err.value.residual) and err.value.residual > 1e-14
+
+
+def test_shooting_ihb_and_continuation_take_element_models_directly():
+    """A builder Model and a CompiledModel are solved as their element_dae at the entry of
+    shooting, ihb and continuation: the same orbits as from element_dae itself."""
+    from periodyn.examples.elliptic_pendulum import elliptic_pendulum_builder
+
+    omega = 0.6 * np.sqrt(9.81)
+    builder = elliptic_pendulum_builder(zeta=0.05)
+    dae = element_dae(builder.compile())
+    ref_ihb = periodyn.ihb(dae, omega, 8, stability=None)
+    ref_shot = periodyn.shooting(dae, omega, initial=ref_ihb, tol=1e-11)
+    for model in (builder, builder.compile()):
+        sol = periodyn.ihb(model, omega, 8, stability=None)
+        np.testing.assert_allclose(sol.harmonics, ref_ihb.harmonics, rtol=0, atol=1e-12)
+        shot = periodyn.shooting(model, omega, initial=sol, tol=1e-11)
+        np.testing.assert_allclose(shot.harmonics, ref_shot.harmonics, rtol=0, atol=1e-10)
+        assert shot.coordinate_names == dae.coordinate_names == ("pendulum",)
+    branch = periodyn.continuation(builder.compile(), (omega, 1.05 * omega), 8, stability=None, max_points=20)
+    assert branch.omega[-1] >= 1.05 * omega - 1e-9
+    np.testing.assert_allclose(branch.solutions[0].harmonics, ref_ihb.harmonics, rtol=0, atol=1e-7)
+    for entry in (periodyn.shooting, periodyn.ihb):
+        with pytest.raises(InputError, match="rheo_linear_dae"):
+            entry(pendulum_from_elements(samples=16).at(omega), omega)
+    with pytest.raises(InputError, match="element model"):
+        periodyn.continuation(pendulum_from_elements(samples=16), (omega, 1.1 * omega))

@@ -14,9 +14,9 @@ import scipy.linalg as sla
 
 from ..dae.ihb import IHBProblem, ihb
 from ..dae.linearization import STABILITY_METHODS
-from ..dae.model import DAE
 from ..errors import ConvergenceError, InputError
 from ..nonlinear.chord import ChordEquations
+from ..nonlinear.elements import as_dae
 from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
@@ -116,7 +116,8 @@ class _Shooting:
 def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
                  initial=None, tangent=None, options: ContinuationOptions | None = None, progress=None,
                  **option_values) -> Branch:
-    """Response curve of a ``periodyn.DAE`` by pseudo-arc-length continuation -> Branch.
+    """Response curve of a ``periodyn.DAE`` or an element model (its non-linear equations,
+    ``element_dae``) by pseudo-arc-length continuation -> Branch.
 
     omega: (start, stop) rad/s for a frequency response, or a fixed value when
     ``parameter=(name, start, stop)`` continues a named parameter. method: "ihb" (H =
@@ -128,8 +129,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     are never recorded.
     """
     opts = replace(options or ContinuationOptions(), **_known(option_values))
-    if not isinstance(system, DAE):
-        raise InputError(f"continuation expects a periodyn.DAE, got {type(system).__name__}")
+    system = as_dae(system, "continuation")
     if parameter is None:
         try:
             p0, p1 = (float(v) for v in omega)

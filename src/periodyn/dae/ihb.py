@@ -29,6 +29,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
+from ..nonlinear.elements import as_dae
 from ..nonlinear.newton import newton
 from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
@@ -200,10 +201,11 @@ class IHBProblem:
                       hint="give a better initial guess (continuation) or more harmonics")
 
 
-def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
+def ihb(system, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
         subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "magnus",
         params=None) -> PeriodicSolution:
-    """Periodic solution of ``system`` driven at ``omega`` (rad/s) by EGA-IHB.
+    """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
+    its non-linear equations ``element_dae``) driven at ``omega`` (rad/s) by EGA-IHB.
 
     harmonics: H; samples: p (default see module docstring); initial: a
     PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
@@ -212,6 +214,7 @@ def ihb(system: DAE, omega: float, harmonics: int = 5, *, samples: int | None = 
     ``periodyn.dae.linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
     "sparse") or None. Raises ConvergenceError when Newton fails.
     """
+    system = as_dae(system, "ihb")
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
     prob = IHBProblem(system, harmonics, samples, subharmonic)

@@ -17,13 +17,20 @@ from ..errors import InputError
 from ..linearize import omega_split
 from ..model import Model
 
-__all__ = ["pendulum_from_elements", "elliptic_pendulum_model"]
+__all__ = ["pendulum_from_elements", "elliptic_pendulum_builder", "elliptic_pendulum_model"]
 
 
 def elliptic_pendulum_model(length: float = 1.0, radius: float = 0.5, eccentricity: float = 0.5,
                             zeta: float = 0.01, g: float = 9.81, mass: float = 1.0):
-    """Compiled element model: pendulum length l (m), pinion radius r (m), eccentricity
-    factor e, relative damping zeta of the isolated pendulum, gravity g (m/s^2), bob mass (kg)."""
+    """Compiled element model of :func:`elliptic_pendulum_builder` (same arguments)."""
+    return elliptic_pendulum_builder(length, radius, eccentricity, zeta, g, mass).compile()
+
+
+def elliptic_pendulum_builder(length: float = 1.0, radius: float = 0.5, eccentricity: float = 0.5,
+                              zeta: float = 0.01, g: float = 9.81, mass: float = 1.0) -> Model:
+    """Element model (builder, not compiled): pendulum length l (m), pinion radius r (m),
+    eccentricity factor e, relative damping zeta of the isolated pendulum, gravity g
+    (m/s^2), bob mass (kg)."""
     for name, value in (("length", length), ("radius", radius), ("g", g), ("mass", mass)):
         if not value > 0:
             raise InputError(f"{name} must be positive, got {value!r}")
@@ -49,7 +56,7 @@ def elliptic_pendulum_model(length: float = 1.0, radius: float = 0.5, eccentrici
     m.prescribe("crank", rate=1.0)
     m.prescribe("gear.rotation", rate=-2.0)   # rolling in the annulus of radius 2r
     m.make_dynamic("pendulum")
-    return m.compile()
+    return m
 
 
 def pendulum_from_elements(*, length: float = 1.0, radius: float = 0.5, eccentricity: float = 0.5,

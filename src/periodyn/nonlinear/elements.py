@@ -33,7 +33,7 @@ from ..kernels.outputs import midpoint_deflection
 from ..kinematics import MAX_HALVINGS, NEWTON_MAX_ITER, _tolerance
 from .linear import ode
 
-__all__ = ["element_dae", "element_outputs", "reduced_equations"]
+__all__ = ["as_dae", "element_dae", "element_outputs", "reduced_equations"]
 
 MAX_STEP = 0.25  # rad or m: largest change of q per tracked step between warm start and target
 
@@ -149,6 +149,25 @@ def element_dae(model, *, name: str | None = None):
     system = ode(model.n_dynamic, force, force_jacobians, model.dynamic_names, name or f"{model.name}_nonlinear")
     system.equations = eq
     return system
+
+
+def as_dae(system, caller: str):
+    """The problem ``shooting``, ``ihb`` and ``continuation`` (``caller``) solve: a
+    ``periodyn.DAE`` as it is, an element model (``periodyn.model.Model``, compiled here,
+    or ``CompiledModel``) as its full non-linear equations :func:`element_dae`. Anything
+    else is refused (InputError naming what to pass)."""
+    from ..dae.model import DAE
+    from ..model import CompiledModel, Model
+
+    if isinstance(system, DAE):
+        return system
+    if isinstance(system, Model):
+        system = system.compile()
+    if isinstance(system, CompiledModel):
+        return element_dae(system)
+    raise InputError(f"{caller} expects a periodyn.DAE or an element model (periodyn.model.Model or CompiledModel), "
+                     f"got {type(system).__name__}: for a linearized model (RheoLinear) use periodyn.rheo_linear_dae, "
+                     "for an OmegaSplitModel give the element model it was built from")
 
 
 def reduced_equations(model, omega: float, t, q, qd, qdd):

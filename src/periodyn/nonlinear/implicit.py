@@ -2,7 +2,7 @@
 (``periodyn.shooting(element_dae(model), omega, method="implicit")``).
 
 The period is integrated in N steps of the trapezoidal rule (:mod:`periodyn.kernels.implicit`)
-with Newton per step and the analytic acceleration Jacobians -M̄⁻¹K̄, -M̄⁻¹C̄ of the
+with simplified Newton per step and the analytic acceleration Jacobians -M̄⁻¹K̄, -M̄⁻¹C̄ of the
 element kernel; the monodromy matrix is that of the discrete map, propagated with the
 converged step Jacobians, so shooting Newton gets the exact Jacobian of the map it solves.
 
@@ -10,13 +10,24 @@ Why the trapezoidal rule: it is A-stable (the stiff bending modes of a flexible 
 need no step restriction) and, unlike generalized-alpha or HHT, adds no numerical
 damping: an undamped mode keeps |multiplier| = 1 and a damped mode keeps its decay rate
 to O((omega_i h)^2), so the Floquet multipliers of the discrete map stay on the right side
-of the unit circle at the steps affordable here, while its only error, a frequency error
-omega_i^3 h^2 / 12, shrinks as h^2. Being symmetric, its error expands in even powers of h,
-so comparing N and N/2 steps gives the Richardson estimate |y_N - y_{N/2}| / 3 of the
-error of the N-step orbit. The phase error of the steps shows in the states but not in
-what the results are read for, the harmonic amplitudes: ``PeriodicSolution.
-discretization_error`` is max |(|c_N| - |c_{N/2}|)| / 3 over the harmonics c (up to
-N/4 - 1) of all coordinates, relative to the largest |c_N|.
+of the unit circle at the steps affordable here. Being symmetric, its periodic orbit
+expands in even powers of h, c_N = c + K h^2 + O(h^4) for every harmonic c, so two orbits,
+on N and N/2 steps, give
+
+- the Richardson estimate |c_N - c_{N/2}| / 3 of the error of the N-step harmonics:
+  ``PeriodicSolution.discretization_error`` is its maximum over all harmonics and
+  coordinates relative to the largest |c|;
+- the extrapolated harmonics c_N + (c_N - c_{N/2}) / 3, error O(h^4), which are the ones
+  returned (and the multipliers of the extrapolated monodromy S_N + (S_N - S_{N/2}) / 3).
+
+Measured on the non-linear slider-crank at 150 rad/s against DOP853 shooting at rtol
+1e-11, N = 128, 256, 512, 1024: the N-step error falls at order 1.91, 1.98, 1.99 and is
+1.36, 1.09, 1.02, 1.005 times the estimate (the rest is the h^4 term, so the estimate
+alone is not a bound); the extrapolated error falls at order 3.6, 3.9, 4.0 and is 0.37,
+0.089, 0.022, 0.0055 times the estimate. The estimate therefore bounds the error of the
+returned harmonics, by a margin that grows as 4^k with the steps (N >= 256 for a tenfold
+margin on this model). Multiplier error of the extrapolated monodromy: 2.9e-3 at N = 256,
+1.8e-4 at N = 512 (|mu| = 0.49).
 """
 
 from __future__ import annotations
@@ -33,8 +44,9 @@ from .newton import newton
 
 __all__ = ["ImplicitMap", "implicit_shooting", "STEPS"]
 
-#: default steps per period: slider-crank amplitude error below 1e-4 relative at 150-290 rad/s
-STEPS = 512
+#: default steps per period: slider-crank at 150 rad/s (its finest-resolved speed), extrapolated
+#: harmonics 7e-5 from DOP853 relative to the largest, estimate 8e-4 (module docstring)
+STEPS = 256
 STEP_TOL = 1e-10  # Newton per step: max|G| <= STEP_TOL (1 + max|y|)
 STEP_MAX_ITER = 12
 
@@ -55,7 +67,7 @@ class ImplicitMap:
         self.n = system.n
         self.omega, self.T = float(omega), 2 * np.pi * int(subharmonic) / float(omega)
         self.evaluations = 0
-        self._last = None
+        self._last: dict[int, tuple] = {}  # steps -> (y0, Y, S) of the latest map with that many steps
 
     def _data(self, y0):
         if self.linear is not None:
@@ -72,8 +84,9 @@ class ImplicitMap:
         """States Y (steps + 1, 2n) at k T / steps from y0 (2n,) and the monodromy S (2n, 2n)
         of the discrete map. Raises ConvergenceError when a step fails."""
         y0 = np.ascontiguousarray(y0, dtype=float)
-        if self._last is not None and self._last[0] == steps and np.array_equal(self._last[1], y0):
-            return self._last[2:]
+        last = self._last.get(steps)
+        if last is not None and np.array_equal(last[0], y0):
+            return last[1:]
         Y = np.empty((steps + 1, 2 * self.n))
         S = np.empty((2 * self.n, 2 * self.n))
         counts = np.zeros(2, np.int64)
@@ -84,7 +97,7 @@ class ImplicitMap:
             raise ConvergenceError(f"implicit step {done + 1} of {steps} at omega={self.omega:.6g} rad/s failed (no "
                                    "configuration or Newton did not converge); use more steps or a better start",
                                    float("nan"), done)
-        self._last = (steps, y0.copy(), Y, S)
+        self._last[steps] = (y0.copy(), Y, S)
         return Y, S
 
     def newton(self, s, steps: int, tol: float, max_iter: int):
@@ -102,9 +115,9 @@ def implicit_shooting(system, omega: float, q, qd, *, subharmonic: int = 1, step
                       tol: float = 1e-9, max_iter: int = 30, samples: int = 128, params=None) -> PeriodicSolution:
     """Periodic solution of an element model by shooting on the trapezoidal map with
     ``steps`` (even) steps per period from the state (q, qd) (n,) at t = 0; Newton first
-    on steps / 2, then on steps from that orbit, whose difference gives the error
-    estimate (module docstring). Spectra from the ``steps`` grid states (harmonics up to
-    min((samples - 1) // 2, steps // 2 - 1)); multipliers of the discrete monodromy."""
+    on steps / 2, then on steps from that orbit. Harmonics up to min((samples - 1) // 2,
+    steps // 4 - 1) and multipliers Richardson-extrapolated from the two orbits, with the
+    error estimate of the module docstring."""
     steps = int(steps)
     if steps < 8 or steps % 2:
         raise InputError(f"steps must be an even number of steps per period >= 8, got {steps}")
@@ -113,18 +126,18 @@ def implicit_shooting(system, omega: float, q, qd, *, subharmonic: int = 1, step
     for _ in range(int(settle_periods)):
         s = pmap(s, steps // 2)[0][-1]
     coarse = pmap.newton(s, steps // 2, tol, max_iter)
+    Yc, Sc = pmap(coarse.x, steps // 2)
     res = pmap.newton(coarse.x, steps, tol, max_iter)
     Y, S = pmap(res.x, steps)
-    Yc = pmap(coarse.x, steps // 2)[0]
-    n = system.n
-    H = min((int(samples) - 1) // 2, steps // 4 - 1)
-    fine, rough = (np.abs(fourier_coefficients(Z[:-1, :n], H)) for Z in (Y, Yc))
-    error = float(np.abs(fine - rough).max() / 3 / fine.max()) if fine.max() > 0 else 0.0
-    mu = np.linalg.eigvals(S)
+    n, H = system.n, min((int(samples) - 1) // 2, steps // 4 - 1)
+    fine, rough = (fourier_coefficients(Z[:-1, :n], H) for Z in (Y, Yc))
+    harmonics = fine + (fine - rough) / 3
+    scale = np.abs(harmonics).max()
+    error = float(np.abs(fine - rough).max() / 3 / scale) if scale > 0 else 0.0
+    mu = np.linalg.eigvals(S + (S - Sc) / 3)
     stability = FloquetExponents.from_multipliers(mu, float(omega), "shooting", subharmonic)
-    H = min((int(samples) - 1) // 2, steps // 2 - 1)
-    return PeriodicSolution(float(omega), fourier_coefficients(Y[:-1, :n], H), None, system.coordinate_names,
-                            system.coordinate_names, float(res.residual), iterations=coarse.iterations + res.iterations,
-                            method="shooting", subharmonic=subharmonic, lambda_harmonics=np.zeros((2 * H + 1, 0), complex),
+    return PeriodicSolution(float(omega), harmonics, None, system.coordinate_names, system.coordinate_names,
+                            float(res.residual), iterations=coarse.iterations + res.iterations, method="shooting",
+                            subharmonic=subharmonic, lambda_harmonics=np.zeros((2 * H + 1, 0), complex),
                             stability=stability, parameters=dict(system.parameters if params is None else params),
                             discretization_error=error)

@@ -24,6 +24,7 @@ from ..errors import ConvergenceError, InputError
 from ..floquet import FloquetExponents
 from ..periodic import PeriodicSolution
 from ..spectra import fourier_coefficients
+from .elements import as_dae
 from .implicit import STEPS, implicit_shooting
 from .integrate import accelerations, consistent_state
 from .newton import newton
@@ -326,7 +327,8 @@ def cyclic_indices(system, cyclic) -> list[int]:
 def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle_periods: int | None = None,
              segments: int = 1, cyclic=(), tol: float = 1e-9, max_iter: int = 30, rtol: float = 1e-11,
              samples: int = 128, params=None, method: str = "DOP853", steps: int = STEPS) -> PeriodicSolution:
-    """Periodic solution of ``system`` at ``omega`` (rad/s) by single or multiple shooting.
+    """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
+    its non-linear equations ``element_dae``) at ``omega`` (rad/s) by single or multiple shooting.
 
     initial: PeriodicSolution (e.g. from ``ihb``), a full state (q, qd), or None (rest at
     ``system.q0``). settle_periods: periods integrated (loose tolerance, explicit method,
@@ -341,6 +343,7 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
     of q and lambda from ``samples`` points of the orbit and the monodromy multipliers
     (2(n - m),). Raises ConvergenceError saying what was tried when no start converges.
     """
+    system = as_dae(system, "shooting")
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
     if int(segments) < 1 or int(subharmonic) < 1:
