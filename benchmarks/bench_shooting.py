@@ -11,7 +11,8 @@ especially for stiff systems):
   midpoint deflection over its length.
 
 For each: the time of the linearized sweep (m = 12 harmonics, p = 64 samples, with the
-sweep's default stability, as shooting delivers multipliers too), the time of the best
+sweep's default stability, as shooting delivers multipliers too; its time without
+stability is printed as well), the time of the best
 shooting periodyn offers for that example at every speed, their ratio (target >= 100), the
 non-linear time per speed (target for the slider-crank <= 1 s), and the largest relative
 amplitude difference over the grid (speeds chosen away from resonance). Shooting arms:
@@ -79,9 +80,9 @@ def _nonlinear(arm, system, lin_model, omega, amplitude):
     return time.perf_counter() - start, np.array(amps), its
 
 
-def _linear(model, omega, output):
+def _linear(model, omega, output, stability=True):
     start = time.perf_counter()
-    ds = periodyn.sweep(model, omega, 12, 64, progress=False)
+    ds = periodyn.sweep(model, omega, 12, 64, stability=stability, progress=False)
     seconds = time.perf_counter() - start
     return seconds, ds["amplitude"].sel(output=output).values
 
@@ -105,7 +106,9 @@ def main(quick: bool, adaptive: bool) -> None:
         _linear(lin_model, omega[:1], output)  # compile and warm up every arm
         for arm in arms:
             ARMS[arm](system, lin_model, float(omega[0]))
+        t_bare = _linear(lin_model, omega, output, stability=False)[0]
         t_lin, a_lin = _linear(lin_model, omega, output)
+        print(f"{name:28s} linearized sweep without stability: {t_bare:.3f} s", flush=True)
         for arm in arms:
             t_nl, a_nl, its = _nonlinear(arm, system, lin_model, omega, amplitude)
             diff = np.max(np.abs(a_nl - a_lin) / np.abs(a_lin))

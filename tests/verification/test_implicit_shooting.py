@@ -90,3 +90,14 @@ def test_implicit_shooting_refuses_other_systems_and_odd_steps():
         periodyn.shooting(rheo_linear_dae(_oscillator()), W, method="implicit", steps=33)
     with pytest.raises(InputError, match="method"):
         periodyn.shooting(rheo_linear_dae(_oscillator()), W, method="euler")
+
+
+def test_implicit_shooting_that_does_not_converge_is_reported():
+    """Element pendulum near its resonance, one Newton update allowed: ConvergenceError
+    with the residual and iteration count, never a solution."""
+    from periodyn.errors import ConvergenceError
+    from periodyn.examples.elliptic_pendulum import elliptic_pendulum_model
+
+    with pytest.raises(ConvergenceError) as err:
+        periodyn.shooting(elliptic_pendulum_model(), 0.95 * np.sqrt(9.81), method="implicit", max_iter=1, tol=1e-14)
+    assert err.value.iterations == 1 and np.isfinite(err.value.residual) and err.value.residual > 1e-14

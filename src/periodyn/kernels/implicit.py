@@ -14,10 +14,10 @@ Jacobians, S1 = (I - h/2 J1)⁻¹ (I + h/2 J0) S0: the product over one period i
 monodromy matrix of the discrete one-period map (no finite differences).
 
 The right-hand side is ``evaluate(data, t, q, qd, acc, Gq, Gv, jacobians) -> bool``
-(False: no acceleration at that state; Gq, Gv written when ``jacobians``), chosen at compile time by the kind of ``data`` (so the
-kernels are cached like any other): a 15-tuple for element models
-(:func:`element_evaluate`, :mod:`periodyn.kernels.nonlinear`), a 4-tuple for rheo-linear
-systems (:func:`linear_evaluate`).
+(False: no acceleration at that state; Gq, Gv written when ``jacobians``), chosen at
+compile time by the kind of ``data`` (so the kernels are cached like any other): a
+15-tuple for element models (:func:`element_evaluate`, :mod:`periodyn.kernels.nonlinear`),
+a 4-tuple for rheo-linear systems (:func:`linear_evaluate`).
 """
 
 import numpy as np

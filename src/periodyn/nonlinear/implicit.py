@@ -101,9 +101,19 @@ class ImplicitMap:
         return Y, S
 
     def newton(self, s, steps: int, tol: float, max_iter: int):
-        """Shooting Newton on R(s) = y(T) - s; NewtonResult (jacobian = S - I)."""
+        """Shooting Newton on R(s) = y(T) - s; NewtonResult (jacobian = S - I). Raises
+        ConvergenceError with the shooting residual and iteration count reached, also when
+        the map itself fails at an iterate (then the count is of residual evaluations)."""
+        done = []  # max|R| of every residual evaluated
+
         def equations(x):
-            Y, S = self(x, steps)
+            try:
+                Y, S = self(x, steps)
+            except ConvergenceError as exc:
+                last, k = (done[-1] if done else float("nan")), len(done)
+                raise ConvergenceError(f"implicit shooting at omega={self.omega:.6g} rad/s: {exc}, after {k} "
+                                       f"residual evaluations (last residual {last:.3g})", last, k) from None
+            done.append(float(np.max(np.abs(Y[-1] - x))))
             return Y[-1] - x, S - np.eye(x.size)
 
         return newton(equations, s, tol=tol, max_iter=max_iter, backtrack=9, accept=2.0,
