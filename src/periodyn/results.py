@@ -33,6 +33,7 @@ Attributes carry the sweep options, the sweep file's text and the package versio
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import platform
@@ -56,14 +57,20 @@ _VERSIONED = ("periodyn", "numpy", "scipy", "numba", "pyfftw", "xarray", "h5netc
 
 
 def package_versions() -> dict[str, str]:
-    """Versions of Python and the packages a result depends on."""
-    versions = {"python": platform.python_version()}
+    """Versions of Python and the packages a result depends on (read once per process:
+    the package metadata costs about 0.1 s, more than a small sweep)."""
+    return dict(_versions())
+
+
+@functools.lru_cache(maxsize=1)
+def _versions() -> tuple[tuple[str, str], ...]:
+    versions = [("python", platform.python_version())]
     for name in _VERSIONED:
         try:
-            versions[name] = metadata.version(name)
+            versions.append((name, metadata.version(name)))
         except metadata.PackageNotFoundError:
-            versions[name] = "not installed"
-    return versions
+            versions.append((name, "not installed"))
+    return tuple(versions)
 
 
 def _split_complex(ds: xr.Dataset) -> xr.Dataset:
