@@ -26,6 +26,14 @@ amplitude difference over the grid (speeds chosen away from resonance). Shooting
   slider-crank too (about a minute per speed).
 
 Run: python benchmarks/bench_shooting.py [--quick]   (or: periodyn bench shooting)
+
+Measured 2026-11-24 (OPENBLAS_NUM_THREADS=1 NUMBA_NUM_THREADS=1, 2 cores at load 12.7,
+both arms equally loaded): linearized sweep with stability / shooting seconds, ratio,
+non-linear s/speed, max |dA|/A
+  pendulum eq. (29) vs (28)  DOP853 from IHB   57 speeds  0.060 /  5.36 s    89x  0.094  0.71 %
+  pendulum from elements     DOP853 from IHB   57 speeds  0.080 / 30.96 s   388x  0.543  0.71 %
+  pendulum from elements     implicit from HB  57 speeds  0.080 / 18.07 s   226x  0.317  0.71 %
+  slider-crank, 2 % damping  implicit from HB  28 speeds  0.074 / 16.19 s   220x  0.578  5.87 %
 """
 
 import os
