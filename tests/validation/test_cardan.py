@@ -143,6 +143,17 @@ def test_maximum_twist_at_the_ends_of_the_range(shaft):
         assert 1.12 < peak / static < 1.25
 
 
+def _assert_paper_zones(wb, checks):
+    """Four boundaries near the paper's, zone 1 by a real multiplier through +1, zone 2 by
+    a complex pair, each confirmed by the monodromy matrix to either side."""
+    ratios = [c.boundary.omega / wb for c in checks]
+    assert len(checks) == 4, ratios
+    np.testing.assert_allclose(ratios, PAPER_BOUNDARIES, atol=0.012)
+    assert [c.boundary.becomes_stable for c in checks] == [False, True, False, True]
+    assert [c.boundary.kind for c in checks] == ["fold", "fold", "neimark-sacker", "neimark-sacker"]
+    assert all(c.agrees for c in checks), checks
+
+
 @pytest.mark.slow
 def test_unstable_zones_typed_and_checked_by_monodromy():
     """Zones 0.65-0.68 and 0.78-0.92 of omega_b (the paper's Fig. 9-10, read off the
@@ -157,12 +168,7 @@ def test_unstable_zones_typed_and_checked_by_monodromy():
     paper says, but a real multiplier), a combination resonance; only the second zone is a
     Neimark-Sacker (complex multiplier pair at angle ~ +-1.4 rad) crossing."""
     wb, checks = cardan_boundaries()
-    ratios = [c.boundary.omega / wb for c in checks]
-    assert len(checks) == 4, ratios
-    np.testing.assert_allclose(ratios, PAPER_BOUNDARIES, atol=0.012)
-    assert [c.boundary.becomes_stable for c in checks] == [False, True, False, True]
-    assert [c.boundary.kind for c in checks] == ["fold", "fold", "neimark-sacker", "neimark-sacker"]
-    assert all(c.agrees for c in checks), checks
+    _assert_paper_zones(wb, checks)
 
 
 def test_unstable_zones_reduced_typed_and_checked_by_monodromy():
@@ -170,12 +176,7 @@ def test_unstable_zones_reduced_typed_and_checked_by_monodromy():
     inside each zone and on either side, coarser bisection): the paper's zones and the
     same types, each confirmed by the monodromy matrix of the reduced model."""
     wb, checks = cardan_boundaries(harmonics=6, samples=32, grid=[0.62, 0.665, 0.72, 0.85, 0.95], xtol=1e-6)
-    ratios = [c.boundary.omega / wb for c in checks]
-    assert len(checks) == 4, ratios
-    np.testing.assert_allclose(ratios, PAPER_BOUNDARIES, atol=0.012)
-    assert [c.boundary.becomes_stable for c in checks] == [False, True, False, True]
-    assert [c.boundary.kind for c in checks] == ["fold", "fold", "neimark-sacker", "neimark-sacker"]
-    assert all(c.agrees for c in checks), checks
+    _assert_paper_zones(wb, checks)
 
 
 def test_unstable_inside_the_zones_and_stable_between(shaft):
