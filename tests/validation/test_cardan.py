@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import periodyn
+from periodyn.analysis import SpeedSolver
 from periodyn.examples.cardan import CARDAN, cardan_frequencies, cardan_shaft, cardan_shaft_model
 from periodyn.examples.cardan_zones import cardan_boundaries
 from periodyn.kernels import assembly
@@ -184,6 +185,20 @@ def test_unstable_inside_the_zones_and_stable_between(shaft):
         system = shaft.at(ratio * OMEGA_B)
         assert periodyn.characteristic_exponents(system, 12, method="dense").stable is stable, ratio
         assert periodyn.characteristic_exponents(system, 12, method="monodromy").stable is stable, ratio
+
+
+def test_default_stability_method_gives_dense_hill_verdicts(shaft):
+    """The sweep file's default ("auto"): the half-period Magnus ladder from 0.01 omega_b on,
+    dense Hill at the lowest speed; the same verdicts and max Re(lambda) as dense Hill."""
+    ratio = np.array([0.002, 0.01, 0.1, 0.3, 0.5, 0.62, 0.665, 0.72, 0.85, 0.95, 0.999])
+    auto = SpeedSolver(shaft, 12).solve_many(ratio * OMEGA_B)
+    dense = SpeedSolver(shaft, 12, method="dense").solve_many(ratio * OMEGA_B)
+    assert list(auto.method) == ["dense"] + ["magnus"] * 10
+    np.testing.assert_array_equal(auto.stable, dense.stable)
+    np.testing.assert_array_equal(auto.stable, [True] * 6 + [False, True, False, True, True])
+    period = 2 * np.pi / (ratio * OMEGA_B)   # Magnus certifies log max|mu| to 1e-6 max(1, |log max|mu||)
+    growth = np.abs(dense.max_real) * period
+    assert (np.abs(auto.max_real - dense.max_real) * period <= 1e-6 * np.maximum(1.0, growth)).all()
 
 
 def _peaks(omega, amp):
