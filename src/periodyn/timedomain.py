@@ -232,7 +232,8 @@ class MagnusEstimate:
 
     exponents (S, 2n) complex rad/s (principal values); accepted (S,) bool: the estimate
     certifies the result (else the speed needs another method); steps (S,) fine steps
-    used; error (S,) estimated error of log|mu| per period; margin (S,) distance of
+    used (over the ladder's span: half a period for half-period-symmetric coefficients);
+    error (S,) estimated error of log|mu| per period; margin (S,) distance of
     log max|mu| from the stability threshold."""
 
     exponents: np.ndarray

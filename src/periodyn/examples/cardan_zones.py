@@ -21,7 +21,8 @@ GRID = np.linspace(0.60, 0.96, 19)
 
 
 def cardan_boundaries(alpha: float = np.pi / 6, harmonics: int = 12, samples: int = 64, grid=GRID,
-                      method: str = "dense", xtol: float = 1e-8, step: float = 1e-3) -> tuple[float, list[BoundaryCheck]]:
+                      method: str = "dense", xtol: float = 1e-8,
+                      step: float = 1e-3) -> tuple[float, list[BoundaryCheck]]:
     """(omega_b in rad/s, the boundaries within ``grid`` (omega / omega_b, increasing),
     each with its monodromy check at relative distance ``step``)."""
     model = cardan_shaft(alpha, samples=samples)
