@@ -317,7 +317,8 @@ class MagnusLadder:
         finite = np.isfinite(Phi).all(axis=(1, 2))
         exps = np.full((omegas.size, 2 * self.n), np.nan + 0j)
         exps[finite] = monodromy_exponent_array(Phi[finite], omegas[finite])
-        return exps, np.sort(np.exp(exps.real * (2 * np.pi / omegas)[:, None]), axis=1)
+        with np.errstate(over="ignore"):  # a multiplier beyond the double range is inf: not accepted
+            return exps, np.sort(np.exp(exps.real * (2 * np.pi / omegas)[:, None]), axis=1)
 
     def solve(self, omegas, budget) -> MagnusEstimate:
         """Exponents at speeds omegas (S,) rad/s, each speed doubling its steps while the
@@ -333,7 +334,7 @@ class MagnusLadder:
         while pending.size:
             spent[pending] += self.cost(w[pending], steps)
             exps, fine = self._moduli(w[pending], steps)
-            with np.errstate(invalid="ignore", divide="ignore"):
+            with np.errstate(all="ignore"):  # non-finite multipliers: error NaN, not accepted
                 top = np.log(fine[:, -1])
                 error = np.maximum(np.abs(top - np.log(coarse[:, -1])), np.abs(fine - coarse).max(axis=1) / fine[:, -1])
                 margin = np.abs(top - STABILITY_TOL)
