@@ -18,7 +18,7 @@ from .errors import InputError
 from .hill import FloquetExponents, characteristic_exponents
 from .system import RheoLinear
 
-__all__ = ["StabilityBoundary", "stability_boundaries", "crossing_type"]
+__all__ = ["StabilityBoundary", "BoundaryCheck", "stability_boundaries", "crossing_type", "check_boundary"]
 
 
 @dataclass(frozen=True)
@@ -64,3 +64,32 @@ def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.nda
         kind = crossing_type(characteristic_exponents(system_at(w + 0.5 * (side - w) * 1e-3), harmonics, method))
         out.append(StabilityBoundary(float(w), kind, bool(values[i + 1] < 0)))
     return out
+
+
+@dataclass(frozen=True)
+class BoundaryCheck:
+    """A boundary checked by the monodromy matrix of direct integration (DOP853) at
+    omega (1 -+ step) just outside and inside the unstable side: max Re(lambda) (1/s)
+    there, the crossing type the monodromy multipliers give inside, and whether both
+    agree with the boundary (stable outside, unstable inside, same type)."""
+
+    boundary: StabilityBoundary
+    step: float
+    max_real_outside: float
+    max_real_inside: float
+    kind_inside: str
+
+    @property
+    def agrees(self) -> bool:
+        return self.max_real_outside < 0 < self.max_real_inside and self.kind_inside == self.boundary.kind
+
+
+def check_boundary(system_at: Callable[[float], RheoLinear], boundary: StabilityBoundary,
+                   step: float = 1e-3) -> BoundaryCheck:
+    """Monodromy check of ``boundary`` at relative distance ``step`` on either side."""
+    if not 0 < step < 0.5:
+        raise InputError(f"step (relative distance from the boundary) must be in (0, 0.5), got {step!r}")
+    inside = -step if boundary.becomes_stable else step
+    out = characteristic_exponents(system_at(boundary.omega * (1 - inside)), 1, "monodromy")
+    into = characteristic_exponents(system_at(boundary.omega * (1 + inside)), 1, "monodromy")
+    return BoundaryCheck(boundary, step, float(out.max_real), float(into.max_real), crossing_type(into))

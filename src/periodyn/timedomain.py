@@ -26,7 +26,7 @@ from .system import RheoLinear
 
 __all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "integrate", "gauss_angles",
            "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array", "MagnusLadder",
-           "MagnusEstimate"]
+           "MagnusEstimate", "half_period_signs"]
 
 RTOL, ATOL = 1e-11, 1e-13
 
@@ -184,6 +184,42 @@ def integrate(system: RheoLinear, y0, t) -> np.ndarray:
     return solve(rhs, (0.0, float(t[-1])), np.asarray(y0, dtype=float), t_eval=t, rtol=RTOL, atol=ATOL).y.T
 
 
+def half_period_signs(*spectra: np.ndarray, rtol: float = 1e-12) -> np.ndarray | None:
+    """Signs s (n,) of a half-period symmetry ``X(theta + pi) = P X(theta) P``, P = diag(s),
+    of every coefficient, or None if there is none.
+
+    spectra: two-sided coefficient spectra (2K+1, n, n) or (2K+1, n, n, P). Entry (i, j)
+    may have odd harmonics only if s_i = -s_j and even ones only if s_i = s_j (entries
+    below rtol times the largest of their array count as zero); s by 2-colouring. Then
+    the monodromy is ``(P Phi(T/2))^2`` with P acting on both q and q'."""
+    n = spectra[0].shape[1]
+    odd, even = np.zeros((n, n), bool), np.zeros((n, n), bool)
+    for X in spectra:
+        mag = np.abs(X).reshape(X.shape[0], n, n, -1).max(axis=-1)
+        big = mag > rtol * mag.max()
+        k = np.arange(X.shape[0]) - (X.shape[0] - 1) // 2
+        odd |= big[k % 2 == 1].any(axis=0)
+        even |= big[k % 2 == 0].any(axis=0)
+    odd, even = odd | odd.T, even | even.T
+    if (odd & even).any():
+        return None
+    signs = np.zeros(n)
+    for root in range(n):
+        if signs[root]:
+            continue
+        signs[root], stack = 1.0, [root]
+        while stack:
+            i = stack.pop()
+            for j in np.nonzero(odd[i] | even[i])[0]:
+                want = -signs[i] if odd[i, j] else signs[i]
+                if signs[j] == 0:
+                    signs[j] = want
+                    stack.append(j)
+                elif signs[j] != want:
+                    return None
+    return signs
+
+
 # Seconds per Magnus step ~ (6 + squarings) products of d x d matrices + a set-up (fitted on
 # one core for d = 2..128: the jitted loops below d = 16, BLAS dgemm from there on)
 _PRODUCT_RATE = (4.5e9, 1.2e10)  # flop/s of one product, below / from d = 16
@@ -196,7 +232,8 @@ class MagnusEstimate:
 
     exponents (S, 2n) complex rad/s (principal values); accepted (S,) bool: the estimate
     certifies the result (else the speed needs another method); steps (S,) fine steps
-    used; error (S,) estimated error of log|mu| per period; margin (S,) distance of
+    used (over the ladder's span: half a period for half-period-symmetric coefficients);
+    error (S,) estimated error of log|mu| per period; margin (S,) distance of
     log max|mu| from the stability threshold."""
 
     exponents: np.ndarray
@@ -221,8 +258,13 @@ class MagnusLadder:
     e max|mu| (a strongly damped mode's multiplier far below the largest is resolved
     absolutely, not in its logarithm). A speed is accepted when e <= STABILITY_TOL
     max(1, |G_N|) (relative to a growth above 1 per period, where the verdict is clear) and
-    the verdict cannot flip, ``|G_N - STABILITY_TOL| > e``; otherwise N is doubled while
-    the estimated cost stays within the speed's budget (and N <= LARGEST).
+    the verdict cannot flip, ``|G_N - STABILITY_TOL| > e``; otherwise (also when the
+    multipliers overflow: at low speeds the coarse steps span many vibration periods) N is
+    doubled while the estimated cost stays within the speed's budget (and N <= LARGEST).
+
+    When the coefficients have a half-period symmetry (:func:`half_period_signs`), the
+    steps cover half a period and the monodromy is ``(P Phi(T/2))^2``: the same step
+    length at half the cost.
     """
 
     START = 32
@@ -231,14 +273,20 @@ class MagnusLadder:
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray):
         self.spectra = (mass, damping, stiffness)
         self.n = mass.shape[1]
+        self.signs = half_period_signs(mass, damping, stiffness)
+        self.span = 2 * np.pi if self.signs is None else np.pi  # angle the steps cover, rad
         self._terms: dict[int, np.ndarray] = {}
         self.scale = self.terms(self.START)[1]
 
     def terms(self, steps: int) -> tuple[np.ndarray, float]:
-        """Terms of the balanced system matrix at the Gauss angles of ``steps`` steps."""
+        """Terms of the balanced system matrix at the Gauss angles of ``steps`` steps over
+        the span; over half a period, term p is divided by 2^p so that the kernel, given
+        twice the speed, takes steps of span / (omega steps) with the right matrix."""
         if steps not in self._terms:
-            theta = gauss_angles(steps)
-            self._terms[steps] = magnus_terms(*(synthesize(X, theta) for X in self.spectra))
+            terms, a = magnus_terms(*(synthesize(X, gauss_angles(steps, 0.0, self.span)) for X in self.spectra))
+            if self.signs is not None:
+                terms = terms / (2.0 ** np.arange(terms.shape[0]))[:, None, None, None]
+            self._terms[steps] = terms, a
         return self._terms[steps]
 
     def cost(self, omegas: np.ndarray, steps: int) -> np.ndarray:
@@ -246,7 +294,7 @@ class MagnusLadder:
         the squarings of the exponentials follow the balanced generator's size,
         scale * 2 pi / (omega steps)."""
         d = 2 * self.n
-        rho = self.scale * 2 * np.pi / (np.asarray(omegas, float) * steps)
+        rho = self.scale * self.span / (np.asarray(omegas, float) * steps)
         squarings = np.maximum(0.0, np.ceil(np.log2(np.maximum(rho, 1e-300) / 4.0)))
         product = 2.0 * d**3 / _PRODUCT_RATE[int(d >= 16)]
         return steps * ((6.0 + squarings) * product + _STEP_SETUP)
@@ -259,11 +307,18 @@ class MagnusLadder:
         """Exponents (S, 2n) and sorted multiplier moduli (S, 2n) with ``steps`` steps
         (NaN where the monodromy matrix is not finite)."""
         Phi = np.empty((omegas.size, 2 * self.n, 2 * self.n))
-        magnus_monodromies(self.terms(steps)[0], omegas, Phi)
+        if self.signs is None:
+            magnus_monodromies(self.terms(steps)[0], omegas, Phi)
+        else:
+            magnus_monodromies(self.terms(steps)[0], 2.0 * omegas, Phi)  # Phi(T/2), see terms()
+            Phi *= np.concatenate([self.signs, self.signs])[:, None]
+            with np.errstate(all="ignore"):  # an overflow is caught as non-finite below
+                Phi = Phi @ Phi
         finite = np.isfinite(Phi).all(axis=(1, 2))
         exps = np.full((omegas.size, 2 * self.n), np.nan + 0j)
         exps[finite] = monodromy_exponent_array(Phi[finite], omegas[finite])
-        return exps, np.sort(np.exp(exps.real * (2 * np.pi / omegas)[:, None]), axis=1)
+        with np.errstate(over="ignore"):  # a multiplier beyond the double range is inf: not accepted
+            return exps, np.sort(np.exp(exps.real * (2 * np.pi / omegas)[:, None]), axis=1)
 
     def solve(self, omegas, budget) -> MagnusEstimate:
         """Exponents at speeds omegas (S,) rad/s, each speed doubling its steps while the
@@ -279,7 +334,7 @@ class MagnusLadder:
         while pending.size:
             spent[pending] += self.cost(w[pending], steps)
             exps, fine = self._moduli(w[pending], steps)
-            with np.errstate(invalid="ignore", divide="ignore"):
+            with np.errstate(all="ignore"):  # non-finite multipliers: error NaN, not accepted
                 top = np.log(fine[:, -1])
                 error = np.maximum(np.abs(top - np.log(coarse[:, -1])), np.abs(fine - coarse).max(axis=1) / fine[:, -1])
                 margin = np.abs(top - STABILITY_TOL)
@@ -287,8 +342,8 @@ class MagnusLadder:
             for name, value in (("exponents", exps), ("steps", steps), ("error", error), ("margin", margin)):
                 getattr(out, name)[pending] = value
             out.accepted[pending] = ok
-            more = ~ok & np.isfinite(fine).all(axis=1) & (spent[pending] + self.cost(w[pending], 2 * steps)
-                                                          <= np.asarray(budget, float)[pending])
+            # a non-finite result (steps far too long: the commutator term overflows) doubles too
+            more = ~ok & (spent[pending] + self.cost(w[pending], 2 * steps) <= np.asarray(budget, float)[pending])
             more &= 2 * steps <= self.LARGEST
             pending, coarse, steps = pending[more], fine[more], 2 * steps
         return out

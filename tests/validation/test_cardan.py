@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.boundaries import crossing_type, stability_boundaries
+from periodyn.analysis import SpeedSolver
 from periodyn.examples.cardan import CARDAN, cardan_frequencies, cardan_shaft, cardan_shaft_model
+from periodyn.examples.cardan_zones import cardan_boundaries
 from periodyn.kernels import assembly
 from periodyn.kinematics import motion, nominal_configurations
 from periodyn.linearize import linearize
@@ -19,6 +20,7 @@ ALPHA = np.pi / 6
 OMEGA_B = 766.0          # rad/s, the paper's first bending frequency of the pinned shaft
 M_O = CARDAN["output_torque"]
 GJ = 210e9 / 2.6 * np.pi * 0.03**4 / 2
+PAPER_BOUNDARIES = (0.65, 0.68, 0.78, 0.92)  # omega/omega_b, read off Fig. 9-10
 EULER_BERNOULLI = np.pi**2 * np.sqrt(210e9 * np.pi * 0.03**4 / 4 / (7850 * np.pi * 0.03**2))   # 765.71 rad/s
 
 
@@ -142,11 +144,23 @@ def test_maximum_twist_at_the_ends_of_the_range(shaft):
         assert 1.12 < peak / static < 1.25
 
 
+def _assert_paper_zones(wb, checks):
+    """Four boundaries near the paper's, zone 1 by a real multiplier through +1, zone 2 by
+    a complex pair, each confirmed by the monodromy matrix to either side."""
+    ratios = [c.boundary.omega / wb for c in checks]
+    assert len(checks) == 4, ratios
+    np.testing.assert_allclose(ratios, PAPER_BOUNDARIES, atol=0.012)
+    assert [c.boundary.becomes_stable for c in checks] == [False, True, False, True]
+    assert [c.boundary.kind for c in checks] == ["fold", "fold", "neimark-sacker", "neimark-sacker"]
+    assert all(c.agrees for c in checks), checks
+
+
 @pytest.mark.slow
-def test_unstable_zones_typed_and_checked_by_monodromy(shaft):
+def test_unstable_zones_typed_and_checked_by_monodromy():
     """Zones 0.65-0.68 and 0.78-0.92 of omega_b (the paper's Fig. 9-10, read off the
-    figure); boundaries by bisection, typed from the critical multiplier and checked just
-    inside and outside each boundary by the monodromy matrix (DOP853).
+    figure); boundaries by bisection (m = 12, 64 samples, the sweep file's), typed from
+    the critical multiplier and checked just inside and outside each boundary by the
+    monodromy matrix (DOP853), :func:`periodyn.examples.cardan_zones.cardan_boundaries`.
 
     The paper calls all four boundaries Neimark-Hopf (a complex pair of exponents crossing
     the imaginary axis). The multipliers say otherwise for the first zone: there a complex
@@ -154,20 +168,16 @@ def test_unstable_zones_typed_and_checked_by_monodromy(shaft):
     unit circle through +1 (exponents sigma +- i omega: complex conjugate exponents, as the
     paper says, but a real multiplier), a combination resonance; only the second zone is a
     Neimark-Sacker (complex multiplier pair at angle ~ +-1.4 rad) crossing."""
-    grid = np.linspace(0.60, 0.96, 19) * OMEGA_B
-    found = stability_boundaries(shaft.at, grid, 12, method="dense", xtol=1e-8)
-    ratios = [b.omega / OMEGA_B for b in found]
-    assert len(found) == 4, ratios
-    for got, paper in zip(ratios, (0.65, 0.68, 0.78, 0.92)):
-        assert abs(got - paper) < 0.012, ratios
-    assert [b.becomes_stable for b in found] == [False, True, False, True]
-    assert [b.kind for b in found] == ["fold", "fold", "neimark-sacker", "neimark-sacker"]
-    for b in found:
-        step = 1e-3 if not b.becomes_stable else -1e-3
-        mono_in = periodyn.characteristic_exponents(shaft.at(b.omega * (1 + step)), 12, method="monodromy")
-        mono_out = periodyn.characteristic_exponents(shaft.at(b.omega * (1 - step)), 12, method="monodromy")
-        assert mono_in.max_real > 0 > mono_out.max_real
-        assert crossing_type(mono_in) == b.kind
+    wb, checks = cardan_boundaries()
+    _assert_paper_zones(wb, checks)
+
+
+def test_unstable_zones_reduced_typed_and_checked_by_monodromy():
+    """The same four boundaries on a reduced case (m = 6, 32 samples, one grid point
+    inside each zone and on either side, coarser bisection): the paper's zones and the
+    same types, each confirmed by the monodromy matrix of the reduced model."""
+    wb, checks = cardan_boundaries(harmonics=6, samples=32, grid=[0.62, 0.665, 0.72, 0.85, 0.95], xtol=1e-6)
+    _assert_paper_zones(wb, checks)
 
 
 def test_unstable_inside_the_zones_and_stable_between(shaft):
@@ -175,6 +185,20 @@ def test_unstable_inside_the_zones_and_stable_between(shaft):
         system = shaft.at(ratio * OMEGA_B)
         assert periodyn.characteristic_exponents(system, 12, method="dense").stable is stable, ratio
         assert periodyn.characteristic_exponents(system, 12, method="monodromy").stable is stable, ratio
+
+
+def test_default_stability_method_gives_dense_hill_verdicts(shaft):
+    """The sweep file's default ("auto"): the half-period Magnus ladder from 0.01 omega_b on,
+    dense Hill at the lowest speed; the same verdicts and max Re(lambda) as dense Hill."""
+    ratio = np.array([0.002, 0.01, 0.1, 0.3, 0.5, 0.62, 0.665, 0.72, 0.85, 0.95, 0.999])
+    auto = SpeedSolver(shaft, 12).solve_many(ratio * OMEGA_B)
+    dense = SpeedSolver(shaft, 12, method="dense").solve_many(ratio * OMEGA_B)
+    assert list(auto.method) == ["dense"] + ["magnus"] * 10
+    np.testing.assert_array_equal(auto.stable, dense.stable)
+    np.testing.assert_array_equal(auto.stable, [True] * 6 + [False, True, False, True, True])
+    period = 2 * np.pi / (ratio * OMEGA_B)   # Magnus certifies log max|mu| to 1e-6 max(1, |log max|mu||)
+    growth = np.abs(dense.max_real) * period
+    assert (np.abs(auto.max_real - dense.max_real) * period <= 1e-6 * np.maximum(1.0, growth)).all()
 
 
 def _peaks(omega, amp):
