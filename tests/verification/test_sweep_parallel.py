@@ -23,7 +23,7 @@ description = "sweep that is killed mid-run by the test"
 [model]
 example = "pendulum"
 [sweep]
-omega = { start = 0.05, stop = 1.4, num = 1000, unit = "omega0" }
+omega = { start = 0.05, stop = 1.4, num = 4000, unit = "omega0" }
 harmonics = 10
 samples = 48
 """
@@ -55,17 +55,17 @@ def test_sigkill_mid_sweep_then_resume_equals_uninterrupted(tmp_path):
                              "--workers", "2", "--chunk-size", str(CHUNK), "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 120
-    while len(list(parts.glob("chunk-*.npz"))) < 3:
+    # the sweep's own process solves chunks too: wait for checkpoints and for the fork server's worker
+    while len(list(parts.glob("chunk-*.npz"))) < 3 or len(descendants(proc.pid)) < 2:
         assert proc.poll() is None, proc.stderr.read().decode()
-        assert time.monotonic() < deadline, "the sweep wrote no checkpoints"
+        assert time.monotonic() < deadline, "the sweep wrote no checkpoints or started no worker"
         time.sleep(0.005)
     workers = descendants(proc.pid)
-    assert len(workers) >= 2
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     assert proc.returncode == -signal.SIGKILL
     done_before = len(list(parts.glob("chunk-*.npz")))
-    assert not out.exists() and 3 <= done_before < 1000 // CHUNK
+    assert not out.exists() and 3 <= done_before < 4000 // CHUNK
 
     spec = load_sweep_file(sweep_path)
     progress = []

@@ -1,6 +1,8 @@
 """Where a sweep's chunks are solved: in this process ("serial"), on a local pool of worker
 processes ("processes", fork server where available) or on a Dask cluster ("dask").
 Each backend yields finished chunks (result columns, see :meth:`Job.solve`) in any order.
+With local processes, the calling process is one of the ``workers``: it solves chunks
+while the others start, so a short sweep never waits for them.
 
 Local worker processes start with one Numba/BLAS/OpenMP thread each (environment set
 before they import numpy; Dask workers started by ``scheduler="local"`` too; on an
@@ -81,21 +83,92 @@ def _process_context():
     return context
 
 
-def run_processes(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
-    payload = cloudpickle.dumps(job)
-    with worker_environment():
-        pool = ProcessPoolExecutor(max_workers=workers, mp_context=_process_context(),
-                                   initializer=_init_worker, initargs=(payload,))
+class _Pool:
+    """Local worker processes fed from the front of the chunk list, started by a thread so
+    that this process can solve chunks from the back meanwhile (:func:`run_processes`).
+    ``take()`` hands this process the last chunk no worker has started: one not yet
+    submitted, or a submitted one whose future can still be cancelled (the pool runs its
+    queue in order, so once the last submitted chunk runs, every earlier one does)."""
+
+    def __init__(self, job: Job, chunks: list[np.ndarray], processes: int):
+        self.chunks, self.processes = chunks, processes
+        self.front, self.back = 0, len(chunks)  # chunks[:front] submitted, chunks[back:] taken here
+        self.submitted: list = []
+        self.lock = threading.Lock()
+        self.pool: ProcessPoolExecutor | None = None
+        self.error: BaseException | None = None
+        self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
+                                       daemon=True)
+        self.thread.start()
+
+    def _feed(self, payload: bytes) -> None:
         try:
-            futures = [pool.submit(_solve_in_worker, chunk) for chunk in chunks]
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
+            with worker_environment():
+                self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=_process_context(),
+                                                initializer=_init_worker, initargs=(payload,))
+                while True:
+                    with self.lock:
+                        if self.front >= self.back:
+                            return
+                        i, self.front = self.front, self.front + 1
+                    future = self.pool.submit(_solve_in_worker, self.chunks[i])  # the first waits for a start
+                    with self.lock:
+                        self.submitted.append(future)
+        except BaseException as exc:  # re-raised in the sweep's thread
+            self.error = exc
+
+    def take(self) -> np.ndarray | None:
+        """The next chunk for this process, or None when the workers have all the rest."""
+        with self.lock:
+            if self.front < self.back:
+                self.back -= 1
+                return self.chunks[self.back]
+            if self.submitted and self.submitted[-1].cancel():
+                self.submitted.pop()
+                self.back -= 1
+                return self.chunks[self.back]
+        return None
+
+    def finished(self) -> list:
+        """Futures done so far, removed from the pool's list."""
+        with self.lock:
+            done = [f for f in self.submitted if f.done()]
+            self.submitted = [f for f in self.submitted if not f.done()]
+        return done
+
+    def remaining(self) -> Iterator:
+        """The futures not yet collected, as they complete (after the last submission)."""
+        self.thread.join()
+        if self.error is not None:
+            raise self.error
+        yield from as_completed(self.submitted)
+
+    def close(self) -> None:
+        with self.lock:
+            self.back = self.front  # nothing more to submit
+        self.thread.join()
+        if self.pool is not None:
+            self.pool.shutdown(wait=True, cancel_futures=True)
+
+
+def run_processes(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
+    """``workers`` processes, this one included: ``workers - 1`` local worker processes
+    take chunks from the front while this process (one thread, as the serial path) solves
+    chunks from the back, so a short sweep does not wait for the workers to start."""
+    pool = _Pool(job, chunks, workers - 1)
     try:
-        for future in as_completed(futures):
+        with one_thread():
+            while True:
+                for future in pool.finished():
+                    yield future.result()
+                chunk = pool.take()
+                if chunk is None:
+                    break
+                yield job.solve(chunk)
+        for future in pool.remaining():
             yield future.result()
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+        pool.close()
 
 
 def _dask_client(scheduler, workers: int):
