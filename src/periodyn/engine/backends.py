@@ -180,9 +180,16 @@ def _dask_client(scheduler, workers: int):
     if isinstance(scheduler, Client):
         return scheduler, []
     if scheduler == "local":
-        with dask.config.set({"distributed.nanny.pre-spawn-environ": WORKER_THREAD_ENV}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+        # the nanny writes its pre-spawn environment into this process's os.environ for good:
+        # restore it, or Numba here would later re-read NUMBA_NUM_THREADS and refuse a change
+        saved = dict(os.environ)
+        try:
+            with dask.config.set({"distributed.nanny.pre-spawn-environ": WORKER_THREAD_ENV}):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+        finally:
+            os.environ.clear()
+            os.environ.update(saved)
         client = Client(cluster)
         return client, [client, cluster]
     try:
