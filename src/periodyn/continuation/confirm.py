@@ -59,7 +59,7 @@ def integrated_multipliers(system, solution, *, rtol: float = 1e-9, newton: int 
 
 
 def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rtol: float = 1e-9, newton: int = 0,
-                           progress=None) -> Branch:
+                           types=tuple(KINDS), progress=None) -> Branch:
     """The branch with every special point checked by direct integration (module
     docstring): ``confirmed`` True/False and ``check`` (the reason) set on each.
 
@@ -67,11 +67,14 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
     loaded from a file); tol: largest distance | |mu| - 1 | of the integrated critical
     multiplier at the point that still confirms it when the bracket shows no crossing;
     rtol: integration tolerance; newton: shooting Newton updates of each orbit before its
-    monodromy (0: the harmonic-balance orbit as it is); progress: None or a callable
-    (points done, points in all)."""
+    monodromy (0: the harmonic-balance orbit as it is); types: the special-point types to
+    check (the others stay unchecked); progress: None or a callable (points done, points
+    to check)."""
     system = branch.options.get("system") if system is None else system
     if system is None:
         raise InputError("confirming special points needs the DAE: pass system= for a branch loaded from a file")
+    if set(types) - set(KINDS):
+        raise InputError(f"types must be among {tuple(KINDS)}, got {tuple(types)}")
     if not 0 < tol < 1 or not 0 < rtol < 1e-3:
         raise InputError(f"tol must lie in (0, 1) and rtol in (0, 1e-3), got tol={tol}, rtol={rtol}")
     if system.n != branch.solutions[0].harmonics.shape[1]:
@@ -83,11 +86,15 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
             cache[k] = integrated_multipliers(system, branch.solutions[k], rtol=rtol, newton=newton)
         return cache[k]
 
-    out = []
-    for j, sp in enumerate(branch.special_points):
+    out, done, todo = [], 0, sum(sp.type in types for sp in branch.special_points)
+    for sp in branch.special_points:
+        if sp.type not in types:
+            out.append(sp)
+            continue
         out.append(_check(sp, at(sp.index), at(sp.index + 1), branch, system, tol, rtol, newton))
+        done += 1
         if progress is not None:
-            progress(j + 1, len(branch.special_points))
+            progress(done, todo)
     return replace(branch, special_points=tuple(out))
 
 
