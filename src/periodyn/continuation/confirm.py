@@ -115,7 +115,8 @@ def _check(sp: SpecialPoint, a, b, branch, system, tol, rtol, newton) -> Special
     mu_p, def_p = integrated_multipliers(system, sp.solution, rtol=rtol, newton=newton)
     c = _nearest(mu_p, kind)
     dist = abs(abs(c) - 1.0) if np.isfinite(c) else np.inf
-    at_point = f"at the point the nearest is {_fmt(c)} (| |mu| - 1 | = {dist:.2g}, tol {tol:g}; orbit defect {def_p:.2g})"
+    at_point = (f"at the point the nearest is {_fmt(c)} (| |mu| - 1 | = {dist:.2g}, tol {tol:g}; orbit defect "
+                f"{def_p:.2g})")
     if dist <= tol:
         return replace(sp, confirmed=True, check=f"confirmed: {at_point}; no crossing inside the bracket ({bracket})")
     return replace(sp, confirmed=False, check=f"rejected: {bracket}, no crossing; {at_point}; {defects}. The "

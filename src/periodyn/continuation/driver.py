@@ -270,7 +270,7 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
         return test(disc.exponents(res.x, *at(p)).multipliers), (res.x, res.residual)
 
     if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
-        return None  # the test function does not bracket the crossing (e.g. a multiplier of that kind nearer the circle)
+        return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
     stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
     res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
                    ftol=1e-9, stol=stol, max_iter=30)
