@@ -21,7 +21,7 @@ _LAZY = {
     "AliasingWarning": "hb", "periodic_solution": "hb", "PeriodicSolution": "periodic",
     "Branch": "continuation", "ContinuationOptions": "continuation", "SpecialPoint": "continuation",
     "continuation": "continuation", "load_branch": "continuation", "switch_branch": "continuation",
-    "switch_period_doubling": "continuation",
+    "switch_period_doubling": "continuation", "confirm_special_points": "continuation",
     "ConvergenceError": "errors", "InputError": "errors",
     "DAE": "dae", "ihb": "dae",
     "FloquetExponents": "floquet", "characteristic_exponents": "hill", "hill_exponents": "hill",

@@ -12,6 +12,7 @@ a ``periodyn.DAE``)::
     ds_max = 0.1                  # optional: largest arc-length step
     max_points = 800              # optional: points per branch at most
     tol = 1e-5                    # optional: residual max-norm of a point (SI units of the equations)
+    confirm = true                # optional: check each special point by direct integration (slow for big models)
     parameter = { name = "f", start = 0.01, stop = 0.3, omega = 3.6 }   # optional curve at fixed omega
     period_doubling = { ds_max = 0.05, max_points = 150 }  # optional: follow the 2T branch
     time_history_omega = 3.6      # optional: read by the figure script only
@@ -42,8 +43,8 @@ from .errors import InputError
 
 __all__ = ["StudySpec", "parse_continuation", "run_study", "load_study", "ensure_study", "plot_study"]
 
-_KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "tol", "parameter",
-         "period_doubling", "time_history_omega")
+_KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "tol", "confirm",
+         "parameter", "period_doubling", "time_history_omega")
 _METHODS = ("ihb", "shooting")
 
 
@@ -124,6 +125,8 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
                                                f"got {stability!r}")
     else:
         options["stability"] = stability
+    if "confirm" in c:
+        options["confirm"] = check.boolean(c["confirm"], "[continuation] confirm")
     if "subharmonic" in c:
         options["subharmonic"] = check.integer(c["subharmonic"], "[continuation] subharmonic", 1)
     parameter = None

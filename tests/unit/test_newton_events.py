@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from periodyn.continuation.events import branch_test, classify, illinois
+from periodyn.continuation.events import branch_test, classify, crossing_test, illinois
 from periodyn.errors import ConvergenceError
 from periodyn.nonlinear.newton import least_squares_factor, newton
 
@@ -64,3 +64,17 @@ def test_illinois_finds_the_root_of_a_bracketed_indicator():
 
     s, data = illinois(g, (0.0, 1.0, None), (1.0, np.cos(1.0) - 1.0, None), ftol=1e-14, stol=1e-15)
     assert abs(s - 0.7390851332151607) < 1e-13 and data == s and len(calls) < 15
+
+
+def test_two_multipliers_through_one_in_one_bracket_give_one_branch_point():
+    """Both refine the one root of the same test function: reported once, not twice."""
+    events = classify(1.0, 1.0, np.array([0.9, 0.95, 0.2]), np.array([1.1, 1.05, 0.2]))
+    assert [e[0] for e in events] == ["branch-point"]
+
+
+def test_crossing_test_follows_the_crossing_kind_not_the_largest_multiplier():
+    """A real multiplier already outside must not hide a complex pair crossing the circle."""
+    a, b = np.array([3.0, 0.9j, -0.9j]), np.array([3.0, 1.1j, -1.1j])
+    assert crossing_test(a, "neimark-sacker") < 0 < crossing_test(b, "neimark-sacker")
+    assert abs(crossing_test(a, "neimark-sacker") + 0.1) < 1e-15
+    assert [e[0] for e in classify(1.0, 1.0, a, b)] == ["neimark-sacker"]

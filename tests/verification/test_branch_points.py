@@ -10,7 +10,8 @@ w = 2.08 rad/s without a fold; the asymmetric branch born there period-doubles n
 import numpy as np
 import pytest
 
-from periodyn.continuation import continuation, switch_branch
+from periodyn.continuation import confirm_special_points, continuation, load_branch, switch_branch
+from periodyn.continuation.confirm import integrated_multipliers
 from periodyn.errors import InputError
 from periodyn.examples import rod_pendulum
 from periodyn.timedomain import monodromy_matrix
@@ -104,3 +105,28 @@ def test_switching_needs_a_branch_point(upper):
     (bp,) = upper.points("branch-point")
     with pytest.raises(InputError, match="not a branch point"):
         switch_branch(upper, type(bp)("fold", bp.index, bp.omega, bp.parameter), 2.0)
+
+
+def test_branch_point_is_confirmed_by_direct_integration(upper, tmp_path):
+    """One period of the DAE with its variational equations from the orbits bracketing the
+    pitchfork: a real multiplier crosses +1 between them (measured 0 -> 1 outside)."""
+    (bp,) = confirm_special_points(upper).points("branch-point")
+    assert bp.confirmed is True and bp.check.startswith("confirmed: real > 0 multipliers")
+    mu, defect = integrated_multipliers(upper.options["system"], bp.solution)
+    # measured |mu - 1| = 7.4e-5: the DAE's own crossing lies that close in omega (H = 20 truncation)
+    assert np.min(np.abs(mu - 1)) < 2e-4 and defect < 1e-3
+    back = load_branch(confirm_special_points(upper).save(tmp_path / "b.nc")).points("branch-point")[0]
+    assert back.confirmed is True and back.check == bp.check
+    assert upper.special_points[0].confirmed is None  # unchecked until asked
+
+
+def test_branch_point_of_too_few_harmonics_is_rejected_by_direct_integration():
+    """With H = 10 the harmonic balance puts a +1 crossing near 2.12 rad/s where the DAE has
+    none (its pitchfork is at 2.083, outside that bracket): rejected, and the reason says why."""
+    s = rod_pendulum(m1=1, l=1, eps1=0.1, f=1, g=9.81)
+    br = continuation(s, (4.5, 1.95), harmonics=10, confirm=True)
+    (bp,) = br.points("branch-point")
+    assert 2.1 < bp.omega < 2.13
+    assert bp.confirmed is False and "no crossing" in bp.check and "raise the harmonics" in bp.check
+    mu, defect = integrated_multipliers(s, bp.solution)
+    assert np.all(np.abs(mu[np.abs(mu.imag) < 1e-9]) < 1) and defect > 0.01

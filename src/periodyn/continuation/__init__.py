@@ -4,12 +4,13 @@
 points, period doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
 ``Branch`` and its netCDF file), ``driver`` (``continuation`` for IHB and shooting with
 ``ContinuationOptions``), ``switching`` (onto the period-doubled branch, or the crossing branch at a branch
-point).
+point), ``confirm`` (each special point checked by the monodromy of a direct integration).
 """
 
 from .branch import Branch, SpecialPoint, load_branch
+from .confirm import confirm_special_points
 from .driver import ContinuationOptions, continuation
 from .switching import switch_branch, switch_period_doubling
 
-__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "continuation", "load_branch", "switch_branch",
-           "switch_period_doubling"]
+__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "confirm_special_points", "continuation", "load_branch",
+           "switch_branch", "switch_period_doubling"]

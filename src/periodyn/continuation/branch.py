@@ -18,8 +18,9 @@ variable               dims                             meaning
 ``multipliers``        (point, multiplier)              complex Floquet multipliers (nan if none)
 ``special_*``          (special, ...)                   type, index, omega, parameter, critical
                                                         multiplier, amplitude, multipliers, test
-                                                        values, critical eigenvector (unknown)
-                                                        and the orbit's harmonics there
+                                                        values, critical eigenvector (unknown),
+                                                        the orbit's harmonics there, confirmed
+                                                        (1, 0, -1 unchecked) and check (reason)
 =====================  ===============================  =======================================
 
 Attributes: parameter_name ('' for omega), status, method, subharmonic, options (JSON).
@@ -53,7 +54,10 @@ class SpecialPoint:
     the unit null vector of the discretization's Jacobian in its unknowns (None otherwise
     or when refinement failed); test_values (3,): the test function at the bracketing
     branch points and at the located point (dp/ds for folds, sign(det(M - I)) min|mu - 1|
-    for branch points, max|mu| - 1 otherwise; None when refinement failed).
+    for branch points, |mu| - 1 of the multiplier of the crossing kind nearest the unit circle
+    otherwise; None when refinement failed); confirmed: the
+    verdict of ``confirm_special_points`` (direct integration; None when not checked) and
+    check: its reason.
     """
 
     type: str
@@ -65,6 +69,8 @@ class SpecialPoint:
     solution: PeriodicSolution | None = None
     eigenvector: np.ndarray | None = None
     test_values: np.ndarray | None = None
+    confirmed: bool | None = None
+    check: str = ""
 
     @property
     def multipliers(self) -> np.ndarray | None:
@@ -147,7 +153,10 @@ class Branch:
              "special_harmonics": (("special", "harmonic", "coordinate"),
                                    _stack([p.solution and p.solution.harmonics for p in sps], s0.harmonics.shape)),
              "special_lambda_harmonics": (("special", "harmonic", "constraint"),
-                                          _stack([p.solution and _lam(p.solution) for p in sps], _lam(s0).shape))},
+                                          _stack([p.solution and _lam(p.solution) for p in sps], _lam(s0).shape)),
+             "special_confirmed": ("special", np.array([-1 if p.confirmed is None else int(p.confirmed) for p in sps],
+                                                       np.int8)),
+             "special_check": ("special", np.array([p.check for p in sps], dtype=str))},
             coords={"harmonic": np.arange(-s0.m, s0.m + 1), "coordinate": list(s0.coordinate_names),
                     "constraint": list(s0.constraint_names)})
         opts = {k: v for k, v in self.options.items() if isinstance(v, (int, float, str, bool, type(None)))}
@@ -184,7 +193,8 @@ class Branch:
             specials.append(SpecialPoint(str(v["special_type"][j]), int(v["special_index"][j]),
                                          float(v["special_omega"][j]), float(v["special_parameter"][j]),
                                          complex(v["special_multiplier"][j]), v["special_amplitude"][j], sol,
-                                         _row(v, "special_eigenvector", j), _row(v, "special_test_values", j)))
+                                         _row(v, "special_eigenvector", j), _row(v, "special_test_values", j),
+                                         *_verdict(v, j)))
         branch = cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
                                     options=json.loads(ds.attrs["options"]), amplitude=v["amplitude"])
         return replace(branch, max_multiplier=v["max_multiplier"])  # as stored, not exp(log(mu))
@@ -197,6 +207,14 @@ class Branch:
 def load_branch(path) -> Branch:
     """Read a branch written by :meth:`Branch.save`."""
     return Branch.from_dataset(load(path))
+
+
+def _verdict(v: dict, j: int) -> tuple:
+    """(confirmed, check) of special point j; (None, "") in files written before the check."""
+    if "special_confirmed" not in v:
+        return None, ""
+    c = int(v["special_confirmed"][j])
+    return (None if c < 0 else bool(c)), str(v["special_check"][j])
 
 
 def _lam(sol) -> np.ndarray:

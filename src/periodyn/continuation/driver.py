@@ -20,7 +20,8 @@ from ..nonlinear.elements import as_dae
 from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
-from .events import branch_test, classify, illinois
+from .confirm import confirm_special_points
+from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind
 from .palc import Arc, first_point, trace
 
 __all__ = ["ContinuationOptions", "continuation"]
@@ -37,7 +38,8 @@ class ContinuationOptions:
     IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
     (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
     of ``periodyn.dae.linearization.orbit_exponents`` or None (IHB; shooting always has
-    its monodromy); shooting_samples: orbit samples of a shooting solution.
+    its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: check
+    every special point by direct integration (``confirm_special_points``, its defaults).
     """
 
     ds: float = 0.02
@@ -50,6 +52,7 @@ class ContinuationOptions:
     subharmonic: int = 1
     stability: str | None = "magnus"
     shooting_samples: int = 128
+    confirm: bool = False
 
     def __post_init__(self):
         if not (0 < self.ds_min <= self.ds_max) or self.ds <= 0:
@@ -174,8 +177,9 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
                                                            if f.name not in ("tol", "samples")})
-    return Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
-                                 np.array([pt.X for pt in pts]))
+    branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
+                                   np.array([pt.X for pt in pts]))
+    return confirm_special_points(branch) if opts.confirm else branch
 
 
 def _known(values: dict) -> dict:
@@ -193,7 +197,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
         if typ == "fold":
             found = _refine_fold(arc, a, b)
         else:
-            test = branch_test if typ == "branch-point" else _escape
+            test = branch_test if typ == "branch-point" else (lambda mu, typ=typ: crossing_test(mu, typ))
             bracket = (test(sol_a.multipliers), test(sol_b.multipliers))
             if k == 0 and abs(bracket[0]) < _AT_START:
                 continue  # the start is this special point itself (a branch switched from it)
@@ -208,17 +212,12 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
         sol = disc.solution(X, *at(p), rn, 0, exps)
         if typ != "fold":
             mu = sol.multipliers
-            j = np.argmin(np.abs(mu - 1)) if typ == "branch-point" else np.argmax(np.abs(mu))
-            crit = complex(mu[int(j)])
+            crit = complex(mu[int(np.argmin(np.abs(mu - 1)))]) if typ == "branch-point" else nearest_of_kind(
+                mu, KINDS[typ])
         vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
         out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
                                 np.asarray(tests, float)))
     return out
-
-
-def _escape(mu) -> float:
-    """Test function of period doubling and Neimark-Sacker points: max|mu| - 1."""
-    return float(np.max(np.abs(mu)) - 1.0)
 
 
 def _null_vector(J, sweeps: int = 4) -> np.ndarray:
@@ -270,6 +269,8 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
             return None
         return test(disc.exponents(res.x, *at(p)).multipliers), (res.x, res.residual)
 
+    if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
+        return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
     stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
     res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
                    ftol=1e-9, stol=stol, max_iter=30)

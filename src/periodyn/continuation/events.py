@@ -8,7 +8,9 @@ while dp/ds keeps its sign (with a sign change of dp/ds the +1 crossing is the f
 Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
 indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
 point solved by the corrector), multiplier crossings fixed-parameter Newton solves with
-g = max|mu| - 1 (period doubling, Neimark-Sacker) or :func:`branch_test` (branch point).
+g = :func:`crossing_test` (period doubling, Neimark-Sacker) or :func:`branch_test` (branch
+point). One bracket reports each type once: two multipliers of one kind leaving in one step
+have one refined location (the test function's root), so a second entry would repeat it.
 """
 
 from __future__ import annotations
@@ -17,7 +19,44 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["branch_test", "classify", "illinois"]
+__all__ = ["KINDS", "branch_test", "classify", "crossing_test", "illinois", "of_kind"]
+
+KINDS = {"fold": "real > 0", "branch-point": "real > 0", "period-doubling": "real < 0", "neimark-sacker": "complex"}
+_IMAG = 1e-6  # relative imaginary part below which a multiplier counts as real
+
+
+def of_kind(mu, kind: str) -> np.ndarray:
+    """The multipliers of one kind of ``KINDS`` ("real > 0", "real < 0", "complex")."""
+    mu = np.asarray(mu, complex)
+    real = np.abs(mu.imag) <= _IMAG * np.maximum(np.abs(mu), 1e-300)
+    if kind == "complex":
+        return mu[~real]
+    return mu[real & ((mu.real > 0) if kind == "real > 0" else (mu.real < 0))]
+
+
+def _nearest(sel) -> complex:
+    """The entry of sel nearest the unit circle in |log|mu|| (nan when sel is empty)."""
+    if not len(sel):
+        return complex("nan")
+    return complex(sel[int(np.argmin(np.abs(np.log(np.maximum(np.abs(sel), 1e-300)))))])
+
+
+def nearest_of_kind(mu, kind: str) -> complex:
+    """The multiplier of one kind nearest the unit circle (nan when there is none)."""
+    return _nearest(of_kind(mu, kind))
+
+
+def crossing_test(mu, typ: str) -> float:
+    """Test function of period doubling and Neimark-Sacker points: |mu| - 1 of the
+    multiplier of the crossing kind nearest the unit circle (other multipliers, already
+    outside or of another kind, do not move its root); without a multiplier of that kind
+    (e.g. the complex pair that turns real on the way to -1) the nearest one that is not
+    real positive."""
+    c = nearest_of_kind(mu, KINDS[typ])
+    if not np.isfinite(c):
+        mu = np.asarray(mu, complex)
+        c = _nearest(np.setdiff1d(mu, of_kind(mu, "real > 0")))
+    return float(abs(c) - 1.0)
 
 
 def branch_test(mu) -> float:
@@ -56,6 +95,8 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
             continue  # the +1 crossing of the fold, reported from dp/ds
         else:
             typ = "branch-point"
+        if any(o[0] == typ for o in out):
+            continue  # one refined location per type and bracket
         if typ == "branch-point":
             fa, fb = branch_test(mu_a), branch_test(mu_b)
         else:
