@@ -188,6 +188,19 @@ def _cmd_study(args, spec, out: Path) -> int:
 
 
 # ----------------------------------------------------------------------------- scripts
+def _chosen_scripts(args, folder: str, pattern: str, prefix: str, what: str) -> tuple[Path, list[Path]]:
+    """(project root, the scripts ``args.names`` choose in ``<root>/<folder>``), or (root, [])
+    after printing their names when ``args.list`` is set or there are none."""
+    from .config import project_root
+
+    root = project_root()
+    scripts = _scripts(root / folder, pattern, prefix, args.names)
+    if args.list or not scripts:
+        print("\n".join(p.stem for p in scripts) or f"no {what} in {root / folder}")
+        return root, []
+    return root, scripts
+
+
 def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[Path]:
     found = sorted(folder.glob(pattern))
     if not names:
@@ -206,12 +219,8 @@ def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[
 def _cmd_figures(args) -> int:
     import importlib.util
 
-    from .config import project_root
-
-    root = project_root()
-    scripts = _scripts(root / "figures", "fig*.py", "fig", args.names)
-    if args.list or not scripts:
-        print("\n".join(p.stem for p in scripts) or f"no figure scripts in {root / 'figures'}")
+    root, scripts = _chosen_scripts(args, "figures", "fig*.py", "fig", "figure scripts")
+    if not scripts:
         return 0
     out_dir = args.out_dir.resolve() if args.out_dir else root / "figures" / "png"
     failed = []
@@ -241,12 +250,8 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from .config import project_root
-
-    root = project_root()
-    scripts = _scripts(root / "benchmarks", "bench_*.py", "bench_", args.names)
-    if args.list or not scripts:
-        print("\n".join(p.stem for p in scripts) or f"no benchmarks in {root / 'benchmarks'}")
+    root, scripts = _chosen_scripts(args, "benchmarks", "bench_*.py", "bench_", "benchmarks")
+    if not scripts:
         return 0
     status = 0
     for script in scripts:

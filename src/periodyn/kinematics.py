@@ -32,13 +32,8 @@ def check_constraints(model) -> None:
     """Raise InputError naming the coordinates/equations if the constraint Jacobian is
     singular in the reference configuration (a mechanism that is under-constrained in
     some coordinates and over-constrained in some equations)."""
-    arr = model.arrays
-    n = model.n_coordinates
-    D, Dx, Dxx, Dxxx = assembly.allocate_tensors(arr)
-    assembly.element_tensors(arr, model.x_reference, D, Dx, Dxx, Dxxx)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
-    assembly.constraints(arr, model.x_reference, D, Dx, Phi, J)
+    D, Dx, Dxx, Dxxx, Phi, J = assembly.allocate_equations(model.arrays)
+    assembly.equations(model.arrays, model.x_reference, D, Dx, Dxx, Dxxx, Phi, J)
     U, s, Vt = np.linalg.svd(J)
     if s[-1] > 1e-10 * s[0]:
         return

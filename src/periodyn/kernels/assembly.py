@@ -83,6 +83,21 @@ def allocate_tensors(arr):
 
 
 @njit(cache=True)
+def allocate_equations(arr):
+    """Zeroed element tensors D, Dx, Dxx, Dxxx and Phi (n_x,), J (n_x, n_x) for :func:`equations`."""
+    n = arr.coord_row.shape[0]
+    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
+    return D, Dx, Dxx, Dxxx, np.zeros(n), np.zeros((n, n))
+
+
+@njit(cache=True)
+def equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J):
+    """Element tensors, constraint equations Phi and their Jacobian J at x (n_x,), in place."""
+    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
+    constraints(arr, x, D, Dx, Phi, J)
+
+
+@njit(cache=True)
 def constraints(arr, x, D, Dx, Phi, J):
     """Overwrite Phi (n_x,) and its Jacobian J (n_x, n_x) from element tensors D, Dx."""
     Phi[:] = 0.0
@@ -123,27 +138,24 @@ def contract2(arr, Dxx, u, w, out):
 
 
 @njit(cache=True)
-def contract3(arr, Dxxx, u, w, z, out):
-    """out (n_x,) = Phi_xxx[u, w, z] for nodal vectors u, w, z (n_x,)."""
+def along(arr, Dxxx, z, out):
+    """out (ne, n_mode, n_dof, n_dof) = Dxxx . z, the element Hessians' derivative along the
+    nodal vector z (n_x,), so that ``contract2(arr, out, u, w, .)`` = Phi_xxx[u, w, z]
+    (rows of constrained modes only; the others are left zero)."""
     out[:] = 0.0
+    ze = np.zeros(arr.dofs.shape[1])
     for e in range(arr.family.shape[0]):
         nd = arr.ndof[e]
+        for c in range(nd):
+            ze[c] = z[arr.dofs[e, c]]
         for k in range(arr.nmode[e]):
-            row = arr.mode_row[arr.modes[e, k]]
-            if row < 0:
-                continue
-            s = 0.0
-            for a in range(nd):
-                ua = u[arr.dofs[e, a]]
-                if ua == 0.0:
-                    continue
-                for b in range(nd):
-                    wb = w[arr.dofs[e, b]]
-                    if wb == 0.0:
-                        continue
-                    for c in range(nd):
-                        s += Dxxx[e, k, a, b, c] * ua * wb * z[arr.dofs[e, c]]
-            out[row] = s
+            if arr.mode_row[arr.modes[e, k]] >= 0:
+                for a in range(nd):
+                    for b in range(nd):
+                        s = 0.0
+                        for c in range(nd):
+                            s += Dxxx[e, k, a, b, c] * ze[c]
+                        out[e, k, a, b] = s
 
 
 @njit(cache=True)
@@ -151,14 +163,10 @@ def newton(arr, x, b, tol, max_iter):
     """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
     inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
     2 = singular Jacobian."""
-    n = x.shape[0]
-    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     res = np.inf
     for it in range(max_iter + 1):
-        element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-        constraints(arr, x, D, Dx, Phi, J)
+        equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
         res = np.max(np.abs(Phi - b))
         if res <= tol:
             return it, res, 0
@@ -173,12 +181,8 @@ def newton(arr, x, b, tol, max_iter):
 @njit(cache=True)
 def input_jacobian(arr, x):
     """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
-    n = x.shape[0]
-    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
-    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-    constraints(arr, x, D, Dx, Phi, J)
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
     return np.linalg.solve(J, arr.rhs_q)
 
 
@@ -228,11 +232,8 @@ def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
     v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by LU solves with the constraint Jacobian J
     (never its inverse). Returns the element tensors D, Dx, Dxx and J (n_x, n_x)."""
     n = x.shape[0]
-    D, Dx, Dxx, Dxxx = allocate_tensors(arr)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
-    element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-    constraints(arr, x, D, Dx, Phi, J)
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
     Fq = np.linalg.solve(J, arr.rhs_q)
     nr = arr.n_input
     nd = Fq.shape[1] - nr
@@ -251,8 +252,10 @@ def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
     FdvT = np.ascontiguousarray(Fdv.T)
     rhs_a = np.empty((n, nd))
     tmp2 = np.empty(n)
+    Dv = np.empty(Dxx.shape)
+    along(arr, Dxxx, v, Dv)
     for i in range(nd):
-        contract3(arr, Dxxx, FdT[i], v, v, col)
+        contract2(arr, Dv, FdT[i], v, col)
         contract2(arr, Dxx, FdT[i], a, tmp)
         contract2(arr, Dxx, FdvT[i], v, tmp2)
         rhs_a[:, i] = col + tmp + 2.0 * tmp2

@@ -36,8 +36,7 @@ def _configuration(arr, x, q, xs, qs, Fs, tol, max_iter, D, Dx, Dxx, Dxxx, Phi, 
     x[:] = xs + Fs @ (q - qs)
     res = np.inf
     for it in range(max_iter + 1):
-        assembly.element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-        assembly.constraints(arr, x, D, Dx, Phi, J)
+        assembly.equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
         res = np.max(np.abs(Phi - b))
         if res <= tol:
             return it, res
@@ -81,9 +80,7 @@ def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobian
     nd = acc.shape[1]
     nr = nq - nd
     for k in prange(b):
-        D, Dx, Dxx, Dxxx = assembly.allocate_tensors(arr)
-        Phi = np.empty(n)
-        J = np.empty((n, n))
+        D, Dx, Dxx, Dxxx, Phi, J = assembly.allocate_equations(arr)
         x = np.empty(n)
         it, res = _configuration(arr, x, Q[k], X[k], Qx[k], FQ[k], tol, max_iter, D, Dx, Dxx, Dxxx, Phi, J)
         if it < 0:  # far from the warm start: continuation with step halving
