@@ -126,7 +126,7 @@ def midpoint_twin(xe, L):
 
 
 def motion_twin(model, x, qdot, qddot):
-    """NumPy twin of kernels.assembly.motion + nodal_arrays + reduced_sample for planar
+    """NumPy twin of kernels.transfer.motion + assembly.nodal_arrays + reduced_sample for planar
     beams (the slider-crank); returns Mb, Cb, Kb, fd."""
     arr = model.arrays
     n = x.size

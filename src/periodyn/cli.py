@@ -27,6 +27,7 @@ _EPILOG = """examples:
   periodyn sweep sweeps/pendulum.toml --omega 0.5:0.6:2000 --workers 2 --out results/zoom.nc
   periodyn sweep sweeps/pendulum.toml --resume          # continue an interrupted sweep
   periodyn sweep sweeps/dae_rod_pendulum.toml --plot results/rod.png   # a continuation study
+  periodyn sweep sweeps/slider_crank_transient.toml     # a transient from rest at one speed
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
   periodyn warmup                                       # compile the kernels once after install
@@ -69,8 +70,10 @@ def build_parser() -> argparse.ArgumentParser:
     sw = commands.add_parser("sweep", help="run a sweep file and write its results (and a figure)",
                              description="Run the sweep described by a TOML sweep file (see sweeps/*.toml and "
                                          "periodyn.config) and write one netCDF result file.")
-    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml, or a continuation study "
-                                            "([continuation] table), e.g. sweeps/dae_rod_pendulum.toml")
+    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml, a continuation study "
+                                            "([continuation] table), e.g. sweeps/dae_rod_pendulum.toml, or a "
+                                            "transient study ([transient] table), e.g. "
+                                            "sweeps/slider_crank_transient.toml")
     sw.add_argument("--omega", type=_omega_range, metavar="START:STOP:NUM",
                     help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit "
                          "(a continuation study takes START:STOP as its range and ignores NUM)")
@@ -137,6 +140,8 @@ def _cmd_sweep(args) -> int:
     out = args.out or Path("results") / f"{spec.name}.nc"
     if spec.kind == "continuation":
         return _cmd_study(args, spec, out)
+    if spec.kind == "transient":
+        return _cmd_transient(args, spec, out)
     workers = args.workers
     if workers == "auto" and args.scheduler:
         workers = available_cores()
@@ -187,7 +192,50 @@ def _cmd_study(args, spec, out: Path) -> int:
     return 0
 
 
+def _cmd_transient(args, spec, out: Path) -> int:
+    from .plotting import save_figure
+    from .transient_study import ensure_transient, run_transient
+
+    if args.omega or args.scheduler or args.chunk_size:
+        raise InputError(f"{spec.source} is a transient study at one speed, run in one process; drop --omega, "
+                         "--scheduler and --chunk-size")
+    start = time.perf_counter()
+    ds = ensure_transient(spec, out) if args.resume else run_transient(spec, out)
+    elapsed = time.perf_counter() - start
+    if args.plot:
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 3.5))
+        for method in ds["method"].values:
+            ax.plot(ds["time"], ds["outputs"].sel(method=method).values[:, 0], label=str(method))
+        if "periodic" in ds:
+            ax.plot(ds["time"], ds["periodic"].values[:, 0], "k:", label="periodic")
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(str(ds["output"].values[0]))
+        ax.legend(fontsize=8)
+        save_figure(fig, args.plot)
+    if not args.quiet:
+        print(f"{spec.example}: transient at omega = {spec.omega:g} rad/s, {ds.sizes['time']} times, methods "
+              f"{', '.join(map(str, ds['method'].values))}, {elapsed:.1f} s; wrote {out}")
+        if args.plot:
+            print(f"figure: {args.plot}")
+    return 0
+
+
 # ----------------------------------------------------------------------------- scripts
+def _chosen_scripts(args, folder: str, pattern: str, prefix: str, what: str) -> tuple[Path, list[Path]]:
+    """(project root, the scripts ``args.names`` choose in ``<root>/<folder>``), or (root, [])
+    after printing their names when ``args.list`` is set or there are none."""
+    from .config import project_root
+
+    root = project_root()
+    scripts = _scripts(root / folder, pattern, prefix, args.names)
+    if args.list or not scripts:
+        print("\n".join(p.stem for p in scripts) or f"no {what} in {root / folder}")
+        return root, []
+    return root, scripts
+
+
 def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[Path]:
     found = sorted(folder.glob(pattern))
     if not names:
@@ -206,12 +254,8 @@ def _scripts(folder: Path, pattern: str, prefix: str, names: list[str]) -> list[
 def _cmd_figures(args) -> int:
     import importlib.util
 
-    from .config import project_root
-
-    root = project_root()
-    scripts = _scripts(root / "figures", "fig*.py", "fig", args.names)
-    if args.list or not scripts:
-        print("\n".join(p.stem for p in scripts) or f"no figure scripts in {root / 'figures'}")
+    root, scripts = _chosen_scripts(args, "figures", "fig*.py", "fig", "figure scripts")
+    if not scripts:
         return 0
     out_dir = args.out_dir.resolve() if args.out_dir else root / "figures" / "png"
     failed = []
@@ -241,12 +285,8 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from .config import project_root
-
-    root = project_root()
-    scripts = _scripts(root / "benchmarks", "bench_*.py", "bench_", args.names)
-    if args.list or not scripts:
-        print("\n".join(p.stem for p in scripts) or f"no benchmarks in {root / 'benchmarks'}")
+    root, scripts = _chosen_scripts(args, "benchmarks", "bench_*.py", "bench_", "benchmarks")
+    if not scripts:
         return 0
     status = 0
     for script in scripts:

@@ -30,8 +30,10 @@ built with :mod:`periodyn.model` and split in powers of omega by
 :func:`periodyn.linearize.omega_split` (see ``sweeps/elliptic_pendulum_elements.toml``).
 
 A file with a ``[continuation]`` table instead of ``[sweep]`` is a continuation study of a
-DAE example (schema and runner in :mod:`periodyn.study`); :func:`parse_sweep` gives a
-:class:`SweepSpec` or a :class:`~periodyn.study.StudySpec`, ``spec.kind`` says which.
+DAE example (schema and runner in :mod:`periodyn.study`), one with a ``[transient]`` table
+the motion from rest at one speed (:mod:`periodyn.transient_study`); :func:`parse_sweep`
+gives a :class:`SweepSpec`, a :class:`~periodyn.study.StudySpec` or a
+:class:`~periodyn.transient_study.TransientSpec`, ``spec.kind`` says which.
 
 ``unit`` is "rad/s", "rpm", "Hz", or a reference frequency of the model: a
 ``metadata`` entry named omega* of the model built from ``[model.parameters]``
@@ -58,11 +60,12 @@ from .config_elements import MODEL_FORM_KEYS, check_element_form, element_model
 from .engine.job import reference_frequencies
 from .errors import InputError
 from .hill import METHODS
-from .results import load
+from .results import load_if_made_from
 from .study import StudySpec, ensure_study, parse_continuation
 from .sweep import sweep_file
+from .transient_study import TransientSpec, ensure_transient, parse_transient
 
-__all__ = ["SweepSpec", "StudySpec", "SweepPlan", "load_sweep_file", "parse_sweep", "project_root", "known_examples",
+__all__ = ["SweepSpec", "StudySpec", "TransientSpec", "SweepPlan", "load_sweep_file", "parse_sweep", "project_root", "known_examples",
            "element_model", "ensure", "FIXED_UNITS", "MAX_HARMONICS"]
 
 #: Harmonics a sweep file may ask for: the Hill matrix has (2m+1)·2n rows per speed.
@@ -228,25 +231,30 @@ def _model(check: Checker, data: dict, name: str) -> tuple:
     return example, builder, accepted, settable, parameters
 
 
-def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") -> SweepSpec | StudySpec:
-    """Validate sweep-file text -> SweepSpec (a [sweep] file) or StudySpec (a [continuation]
-    file; ``spec.kind`` tells which); raises InputError with the nearest fix."""
+def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") -> SweepSpec | StudySpec | TransientSpec:
+    """Validate sweep-file text -> SweepSpec (a [sweep] file), StudySpec (a [continuation]
+    file) or TransientSpec (a [transient] file; ``spec.kind`` tells which); raises
+    InputError with the nearest fix."""
     check = Checker(source)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: not valid TOML: {exc}") from None
-    check.keys(data, "top level", ("description", "model", "sweep", "continuation"), ("model",))
-    if "sweep" not in data and "continuation" not in data:
-        check.fail("top level", "missing required key 'sweep' (a speed sweep) or 'continuation' (a continuation "
-                                "study of a DAE example)")
-    if "sweep" in data and "continuation" in data:
-        check.fail("top level", "give either [sweep] (a speed sweep) or [continuation] (a study), not both")
+    kinds = ("sweep", "continuation", "transient")
+    check.keys(data, "top level", ("description", "model") + kinds, ("model",))
+    given = [k for k in kinds if k in data]
+    if not given:
+        check.fail("top level", "missing required key 'sweep' (a speed sweep), 'continuation' (a continuation "
+                                "study of a DAE example) or 'transient' (the motion from rest at one speed)")
+    if len(given) > 1:
+        check.fail("top level", f"give one of [sweep] (a speed sweep), [continuation] (a study) or [transient], "
+                                f"not {' and '.join(f'[{k}]' for k in given)}")
     description = check.string(data.get("description", ""), "description")
     example, builder, accepted, settable, parameters = _model(check, data, name)
-    if "continuation" in data:
-        return parse_continuation(check, data["continuation"], source=source, name=name, text=text,
-                                  description=description, example=example, builder=builder, parameters=parameters)
+    if given[0] != "sweep":
+        parse = parse_continuation if given[0] == "continuation" else parse_transient
+        return parse(check, data[given[0]], source=source, name=name, text=text, description=description,
+                     example=example, builder=builder, parameters=parameters)
 
     sweep = check.table(data["sweep"], "[sweep]")
     check.keys(sweep, "[sweep]", ("omega", "harmonics", "samples", "stability", "method", "grid", "output_units"),
@@ -298,7 +306,7 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
                      harmonics, samples, stability, method, grid, output_units)
 
 
-def load_sweep_file(path) -> SweepSpec | StudySpec:
+def load_sweep_file(path) -> SweepSpec | StudySpec | TransientSpec:
     """Read and validate ``path`` (a .toml sweep file)."""
     path = Path(path)
     try:
@@ -319,7 +327,8 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
 
     A speed sweep gives its xarray Dataset; a continuation study gives its branches
     ({"frequency": Branch, "parameter": ..., "period_doubled": ...}, see
-    :mod:`periodyn.study`). Relative directories are taken from the project root (the
+    :mod:`periodyn.study`); a transient study its Dataset of time histories (see
+    :mod:`periodyn.transient_study`). Relative directories are taken from the project root (the
     folder holding ``sweeps/``). Used by the figure scripts, which only read results and draw.
     """
     root = project_root()
@@ -327,12 +336,7 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
     out = root / results_dir / f"{name}.nc"
     if isinstance(spec, StudySpec):
         return ensure_study(spec, out)
-    if out.is_file():
-        try:
-            ds = load(out)
-        except InputError:  # unreadable: computed again below
-            ds = None
-        if ds is not None and ds.attrs.get("sweep_file_text") == spec.text:
-            return ds
-        out.unlink()
-    return sweep_file(spec, out=out, workers=workers, resume=True, progress=None)
+    if isinstance(spec, TransientSpec):
+        return ensure_transient(spec, out)
+    ds = load_if_made_from(out, "sweep_file_text", spec.text)
+    return ds if ds is not None else sweep_file(spec, out=out, workers=workers, resume=True, progress=None)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ConvergenceError, InputError
-from .kernels import assembly
+from .kernels import assembly, constraints, transfer
 from .spectra import sample_angles
 
 __all__ = ["Motion", "check_constraints", "check_inertia", "nominal_configurations", "configuration", "motion"]
@@ -32,13 +32,8 @@ def check_constraints(model) -> None:
     """Raise InputError naming the coordinates/equations if the constraint Jacobian is
     singular in the reference configuration (a mechanism that is under-constrained in
     some coordinates and over-constrained in some equations)."""
-    arr = model.arrays
-    n = model.n_coordinates
-    D, Dx, Dxx, Dxxx = assembly.allocate_tensors(arr)
-    assembly.element_tensors(arr, model.x_reference, D, Dx, Dxx, Dxxx)
-    Phi = np.empty(n)
-    J = np.empty((n, n))
-    assembly.constraints(arr, model.x_reference, D, Dx, Phi, J)
+    D, Dx, Dxx, Dxxx, Phi, J = constraints.allocate_equations(model.arrays)
+    constraints.equations(model.arrays, model.x_reference, D, Dx, Dxx, Dxxx, Phi, J)
     U, s, Vt = np.linalg.svd(J)
     if s[-1] > 1e-10 * s[0]:
         return
@@ -90,7 +85,7 @@ def _track(model, q_targets: np.ndarray, labels, x0=None, q0=None) -> np.ndarray
     info = np.zeros((p, 2))
     x0 = model.x_reference.copy() if x0 is None else np.array(x0, dtype=float)
     q0 = np.zeros(model.n_inputs + model.n_dynamic) if q0 is None else np.asarray(q0, dtype=float)
-    failed = assembly.track(arr, x0, q0, np.ascontiguousarray(q_targets, dtype=float),
+    failed = transfer.track(arr, x0, q0, np.ascontiguousarray(q_targets, dtype=float),
                             _tolerance(model), NEWTON_MAX_ITER, MAX_HALVINGS, X, info)
     if failed >= 0:
         _raise_failure(model, info[failed], labels(failed))
@@ -156,6 +151,6 @@ def motion(model, x, qdot, qddot) -> Motion:
     v, a = np.empty(n), np.empty(n)
     Fd, Fdv, Fda = np.empty((n, nd)), np.empty((n, nd)), np.empty((n, nd))
     Fdd = np.empty((n, nd, nd))
-    assembly.motion(model.arrays, x, np.asarray(qdot, dtype=float), np.asarray(qddot, dtype=float),
+    transfer.motion(model.arrays, x, np.asarray(qdot, dtype=float), np.asarray(qddot, dtype=float),
                     v, a, Fd, Fdv, Fdd, Fda)
     return Motion(x, v, a, Fd, Fdv, Fdd, Fda)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .kernels import assembly
+from .kernels import assembly, constraints
 from .kinematics import configuration, motion, nominal_configurations
 from .system import OmegaSplitModel, RheoLinear
 
@@ -175,11 +175,11 @@ def output_maps(model, X: np.ndarray, Fd: np.ndarray | None = None) -> np.ndarra
     if n_out == 0:
         return G
     qdot = np.zeros(model.n_inputs + model.n_dynamic)
-    tensors = assembly.allocate_tensors(model.arrays) if any(o.kind == "mode" for o in model.outputs) else None
+    tensors = constraints.allocate_tensors(model.arrays) if any(o.kind == "mode" for o in model.outputs) else None
     for j in range(p):
         Fd_j = motion(model, X[j], qdot, qdot).Fd if Fd is None else Fd[j]
         if tensors is not None:
-            assembly.element_tensors(model.arrays, X[j], *tensors)
+            constraints.element_tensors(model.arrays, X[j], *tensors)
         for o, out in enumerate(model.outputs):
             G[j, o] = out.gradient(X[j], None if tensors is None else tensors[1]) @ Fd_j[out.dofs]
     return G

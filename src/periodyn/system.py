@@ -91,8 +91,13 @@ def _check_samples(p: int) -> int:
     return int(p)
 
 
-def _default_names(n: int) -> tuple[str, ...]:
-    return tuple(f"q{i}" for i in range(n))
+def _names_and_outputs(coordinate_names, output_maps, output_names, p: int, n: int) -> tuple[tuple, np.ndarray, tuple]:
+    """Validated coordinate names (n,) (default q0, q1, ...), output maps (p, n_out, n) and
+    output names (default: the coordinates, or y0, y1, ... for given maps)."""
+    names = tuple(coordinate_names) if coordinate_names is not None else tuple(f"q{i}" for i in range(n))
+    if len(names) != n:
+        raise InputError(f"{len(names)} coordinate names for {n} coordinates")
+    return (names,) + _outputs(output_maps, output_names, p, n, names)
 
 
 def _outputs(output_maps, output_names, p: int, n: int, coordinate_names) -> tuple[np.ndarray, tuple]:
@@ -109,8 +114,24 @@ def _outputs(output_maps, output_names, p: int, n: int, coordinate_names) -> tup
     return G, names
 
 
+class _Sampled:
+    """Sizes of coefficients sampled over one period, from the mass samples (p, n, n)."""
+
+    mass: np.ndarray
+
+    @property
+    def n(self) -> int:
+        """Number of coordinates."""
+        return self.mass.shape[1]
+
+    @property
+    def samples(self) -> int:
+        """Samples per period p."""
+        return self.mass.shape[0]
+
+
 @dataclass(frozen=True, eq=False)
-class RheoLinear:
+class RheoLinear(_Sampled):
     """``M(t) q'' + C(t) q' + K(t) q = f(t)`` sampled over one period ``T = 2*pi/omega``.
 
     Build with :meth:`from_functions` or :meth:`from_samples` (which validate); fields:
@@ -128,16 +149,6 @@ class RheoLinear:
     output_names: tuple[str, ...]
     functions: tuple[Callable, Callable, Callable, Callable] | None = None
     precomputed_spectra: Spectra | None = field(default=None, repr=False)
-
-    @property
-    def n(self) -> int:
-        """Number of coordinates."""
-        return self.mass.shape[1]
-
-    @property
-    def samples(self) -> int:
-        """Samples per period p."""
-        return self.mass.shape[0]
 
     @property
     def period(self) -> float:
@@ -183,10 +194,7 @@ class RheoLinear:
         Ka = _as_samples("K", K, p, n, vector=False)
         fa = _as_samples("f", f, p, n, vector=True)
         _check_mass(Ma)
-        names = tuple(coordinate_names) if coordinate_names is not None else _default_names(n)
-        if len(names) != n:
-            raise InputError(f"{len(names)} coordinate names for {n} coordinates")
-        G, out_names = _outputs(output_maps, output_names, p, n, names)
+        names, G, out_names = _names_and_outputs(coordinate_names, output_maps, output_names, p, n)
         return cls(w, Ma, Ca, Ka, fa, names, G, out_names)
 
     @classmethod
@@ -217,7 +225,7 @@ class RheoLinear:
 
 
 @dataclass(frozen=True, eq=False)
-class OmegaSplitModel:
+class OmegaSplitModel(_Sampled):
     """Constant-speed model with coefficients polynomial in omega, sampled over the crank
     angle theta = omega t at ``p`` angles.
 
@@ -253,10 +261,7 @@ class OmegaSplitModel:
                 return np.zeros((1,) + shape)
             return np.stack([_as_samples(f"{label}[omega^{k}]", s, p, n, vector) for k, s in enumerate(seq)])
 
-        names = tuple(coordinate_names) if coordinate_names is not None else _default_names(n)
-        if len(names) != n:
-            raise InputError(f"{len(names)} coordinate names for {n} coordinates")
-        G, out_names = _outputs(output_maps, output_names, p, n, names)
+        names, G, out_names = _names_and_outputs(coordinate_names, output_maps, output_names, p, n)
         return cls(Ma, powers("damping", damping, False), powers("stiffness", stiffness, False),
                    powers("force", force, True), names, np.ascontiguousarray(G), out_names, name, rebuild,
                    dict(metadata or {}))
@@ -285,14 +290,6 @@ class OmegaSplitModel:
         return cls.from_samples(sample(mass, False), [sample(c, False) for c in damping],
                                 [sample(k, False) for k in stiffness], [sample(f, True) for f in force],
                                 output_maps=output_maps, rebuild=rebuild, **kwargs_out)
-
-    @property
-    def n(self) -> int:
-        return self.mass.shape[1]
-
-    @property
-    def samples(self) -> int:
-        return self.mass.shape[0]
 
     @cached_property
     def _power_spectra(self) -> tuple[np.ndarray, ...]:

@@ -195,8 +195,8 @@ def test_per_sample_linearization_matches_numpy_twin():
 def test_adjoint_curvature_term_equals_the_direct_second_derivative_form():
     """reduced_sample forms sum_k r_k F_{q^d q^d}[k] as -mu . Phi_xx[F_d, F_d] with the
     constraint forces mu = J^-T r; the direct form contracts r with all n_d^2 second
-    derivatives of the transfer function (assembly.motion's Fdd)."""
-    from periodyn.kernels import assembly
+    derivatives of the transfer function (transfer.motion's Fdd)."""
+    from periodyn.kernels import assembly, transfer
 
     model = slider_crank_model(kelvin_voigt=5e-5, rod_elements=6, rotary_inertia_per_length=1e-4)
     n, nd = model.n_coordinates, model.n_dynamic
@@ -208,7 +208,7 @@ def test_adjoint_curvature_term_equals_the_direct_second_derivative_form():
         Mb, Cb, Kb, fd = kernel_sample(model, x, qdot, qddot)
         v, a, Fd, Fdv, Fda = np.empty(n), np.empty(n), np.empty((n, nd)), np.empty((n, nd)), np.empty((n, nd))
         Fdd = np.empty((n, nd, nd))
-        D, Dx, Dxx = assembly.motion(model.arrays, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda)
+        D, Dx, Dxx = transfer.motion(model.arrays, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda)
         M, r, C, K = np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty((n, n))
         assembly.nodal_arrays(model.arrays, x, v, a, D, Dx, Dxx, M, r, C, K)
         direct = Fd.T @ K @ Fd + (M @ Fd).T @ Fda + Fd.T @ C @ Fdv + np.einsum("k,kij->ij", r, Fdd)

@@ -31,7 +31,7 @@ def small_study(path: Path, folder: Path, harmonics: int = 3, max_points: int = 
 
 def test_every_shipped_file_is_covered():
     kinds = {load_sweep_file(p).kind for p in FILES}
-    assert kinds == {"sweep", "continuation"}
+    assert kinds == {"sweep", "continuation", "transient"}
 
 
 @pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
@@ -46,6 +46,17 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
         ds = load(out)
         assert ds.sizes["omega"] == 3
         assert np.isfinite(ds["omega"].values).all()
+        return
+    if spec.kind == "transient":  # one speed: fewer times
+        small = tmp_path / path.name
+        small.write_text(re.sub(r"(?m)^points = \d+", "points = 21", path.read_text()))
+        code = main(["sweep", str(small), "--out", str(out), "-q"])
+        assert code == 0, capsys.readouterr().err
+        ds = load(out)
+        assert ds.sizes["time"] == 21 and ds.attrs["omega"] == pytest.approx(spec.omega, rel=1e-15)
+        assert np.isfinite(ds["outputs"].values).all()
+        assert main(["sweep", str(small), "--out", str(out), "--omega", "1:2:3"]) == 2  # one speed: refused
+        assert "transient study at one speed" in capsys.readouterr().err
         return
     small = small_study(path, tmp_path)
     a, b = spec.omega

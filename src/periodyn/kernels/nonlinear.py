@@ -13,7 +13,7 @@ reduced_sample evaluated at the actual accelerations (a second pass, only when a
 import numpy as np
 from numba import njit, prange
 
-from . import assembly
+from . import assembly, constraints, transfer
 
 
 @njit(cache=True)
@@ -36,8 +36,7 @@ def _configuration(arr, x, q, xs, qs, Fs, tol, max_iter, D, Dx, Dxx, Dxxx, Phi, 
     x[:] = xs + Fs @ (q - qs)
     res = np.inf
     for it in range(max_iter + 1):
-        assembly.element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-        assembly.constraints(arr, x, D, Dx, Phi, J)
+        constraints.equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
         res = np.max(np.abs(Phi - b))
         if res <= tol:
             return it, res
@@ -56,7 +55,7 @@ def _acceleration(arr, x, qdot, D, Dx, Dxx, J, Fq, acc):
     Fq[:] = np.linalg.solve(J, arr.rhs_q)
     v = Fq @ qdot
     conv = np.empty(n)
-    assembly.contract2(arr, Dxx, v, v, conv)
+    constraints.contract2(arr, Dxx, v, v, conv)
     a = -np.linalg.solve(J, conv)
     M = np.empty((n, n))
     r = np.empty(n)
@@ -81,15 +80,13 @@ def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobian
     nd = acc.shape[1]
     nr = nq - nd
     for k in prange(b):
-        D, Dx, Dxx, Dxxx = assembly.allocate_tensors(arr)
-        Phi = np.empty(n)
-        J = np.empty((n, n))
+        D, Dx, Dxx, Dxxx, Phi, J = constraints.allocate_equations(arr)
         x = np.empty(n)
         it, res = _configuration(arr, x, Q[k], X[k], Qx[k], FQ[k], tol, max_iter, D, Dx, Dxx, Dxxx, Phi, J)
         if it < 0:  # far from the warm start: continuation with step halving
             xk = np.empty((1, n))
             ik = np.zeros((1, 2))
-            if assembly.track(arr, X[k].copy(), Qx[k].copy(), Q[k:k + 1], tol, max_iter, max_halvings, xk, ik) >= 0:
+            if transfer.track(arr, X[k].copy(), Qx[k].copy(), Q[k:k + 1], tol, max_iter, max_halvings, xk, ik) >= 0:
                 info[k, 0] = ik[0, 0]
                 info[k, 1] = ik[0, 1]
                 continue

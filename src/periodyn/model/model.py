@@ -18,60 +18,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.assembly import ModelArrays
+from .compile import CompiledModel, compile_model
 from .output_builder import OutputBuilder
-from .outputs import OutputMap
-from .elements import (FLEXIBLE, FREE, PRESCRIBED, RIGID, IndependentElement,
-                       PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses)
+from .elements import FREE, RIGID, IndependentElement, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses
 from .spatial import SpatialTruss, orientation_coordinates
 from .spatial_builder import SpatialBuilder
 
 __all__ = ["Model", "CompiledModel"]
-
-
-@dataclass(frozen=True, eq=False)
-class CompiledModel:
-    """A model compiled for the kernels (built once per model).
-
-    arrays: :class:`periodyn.kernels.assembly.ModelArrays`; coordinate_names (n_x,),
-    x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
-    q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
-    :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
-    (eq. 11-12).
-    """
-
-    name: str
-    arrays: ModelArrays
-    coordinate_names: tuple[str, ...]
-    x_reference: np.ndarray
-    mode_names: tuple[str, ...]
-    input_names: tuple[str, ...]
-    input_rates: np.ndarray
-    dynamic_names: tuple[str, ...]
-    outputs: tuple[OutputMap, ...]
-    independent: tuple[tuple[IndependentElement, np.ndarray], ...]
-    constraint_labels: tuple[str, ...]
-    dimension: int = 2
-
-    @property
-    def output_names(self) -> tuple[str, ...]:
-        return tuple(o.name for o in self.outputs)
-
-    @property
-    def n_coordinates(self) -> int:
-        return len(self.coordinate_names)
-
-    @property
-    def n_inputs(self) -> int:
-        return len(self.input_names)
-
-    @property
-    def n_dynamic(self) -> int:
-        return len(self.dynamic_names)
-
-    def inputs(self, theta: float) -> np.ndarray:
-        """q^r at crank angle theta (rad), (n_r,)."""
-        return self.input_rates * float(theta)
 
 
 @dataclass
@@ -287,130 +240,6 @@ class Model(SpatialBuilder, OutputBuilder):
     # ------------------------------------------------------------------ compile
     def compile(self) -> CompiledModel:
         """Flatten into kernel arrays and check that the constraints determine every
-        nodal coordinate exactly once in the reference configuration."""
-        from ..kinematics import check_constraints, check_inertia
-
-        coords = self._coordinate_names()
-        index = {c: i for i, c in enumerate(coords)}
-        n_x = len(coords)
-        x_ref = np.array([v for p in self.points.values() for v in p] + list(self.angles.values())
-                         + [v for o in self.orientations.values() for v in o])
-        elements = self.elements + self._spatial_elements()
-        # coordinate statuses
-        status: dict[str, str] = {}
-        for group, label in ((self.fixed, "fixed"), (self.dynamic, "dynamic"),
-                             ([c for c in self.prescribed if c in index], PRESCRIBED)):
-            for c in group:
-                if c in status:
-                    raise InputError(f"nodal coordinate '{c}' is both {status[c]} and {label}; choose one")
-                status[c] = label
-        # modes
-        mode_names, mode_status = [], []
-        for e in elements:
-            for m, st in zip(e.mode_names, e.modes):
-                full = f"{e.name}.{m}"
-                mode_names.append(full)
-                mode_status.append(PRESCRIBED if full in self.prescribed else st)
-        input_names = list(self.prescribed)
-        dynamic_names = list(self.dynamic) + [m for m, s in zip(mode_names, mode_status) if s == FLEXIBLE]
-        q_names = input_names + dynamic_names
-        q_index = {c: i for i, c in enumerate(q_names)}
-        n_q = len(q_names)
-
-        coord_row = -np.ones(n_x, dtype=np.int64)
-        mode_row = -np.ones(len(mode_names), dtype=np.int64)
-        rhs0 = np.zeros(n_x)
-        rhs_q = np.zeros((n_x, n_q))
-        labels = []
-        row = 0
-        for c in coords:
-            if c in status:
-                coord_row[index[c]] = row
-                rhs0[row] = x_ref[index[c]]
-                if c in q_index:
-                    rhs_q[row, q_index[c]] = 1.0
-                labels.append(f"{status[c]} coordinate '{c}'")
-                row += 1
-        n_eq = len(status) + sum(s != FREE for s in mode_status)
-        if n_eq != n_x:
-            dependent = [c for c in coords if c not in status]
-            constrained = [m for m, s in zip(mode_names, mode_status) if s != FREE]
-            over = n_eq > n_x
-            fix = ("make a mode free or remove a fixed/prescribed coordinate" if over
-                   else "make a free mode rigid, fix a coordinate or add an input")
-            raise InputError(
-                f"model '{self.name}' is {'over' if over else 'under'}-constrained: {n_x} nodal coordinates but "
-                f"{n_eq} equations ({len(status)} fixed/prescribed/dynamic coordinates + {len(constrained)} "
-                f"rigid/prescribed/flexible modes); {fix}. Constrained modes: {constrained}; "
-                f"coordinates left to the modes: {dependent}")
-        for k, (m, s) in enumerate(zip(mode_names, mode_status)):
-            if s == FREE:
-                continue
-            mode_row[k] = row
-            if m in q_index:
-                rhs_q[row, q_index[m]] = 1.0
-            labels.append(f"{s} mode '{m}'")
-            row += 1
-
-        ne = len(elements)
-        # local widths: the widest family present in this model (no global padding)
-        pars = [el.parameters(x_ref[[index[c] for c in el.coordinates()]]) for el in elements]
-        ipars = [el.inertia_parameters(p) for el, p in zip(elements, pars)]
-        w_dof = max((len(el.coordinates()) for el in elements), default=1)
-        w_mode = max((len(el.mode_names) for el in elements), default=1)
-        family = np.zeros(ne, dtype=np.int64)
-        dofs = -np.ones((ne, w_dof), dtype=np.int64)
-        ndof = np.zeros(ne, dtype=np.int64)
-        par = np.zeros((ne, max((p.size for p in pars), default=1)))
-        ipar = np.zeros((ne, max((p.size for p in ipars), default=1)))
-        modes = -np.ones((ne, w_mode), dtype=np.int64)
-        nmode = np.zeros(ne, dtype=np.int64)
-        stiff = np.zeros((ne, w_mode, w_mode))
-        damp = np.zeros((ne, w_mode, w_mode))
-        stress0 = np.zeros((ne, w_mode))
-        k0 = 0
-        for e, el in enumerate(elements):
-            loc = [index[c] for c in el.coordinates()]
-            family[e] = el.family
-            ndof[e] = len(loc)
-            dofs[e, :len(loc)] = loc
-            par[e, :pars[e].size] = pars[e]
-            ipar[e, :ipars[e].size] = ipars[e]
-            l0 = par[e, 0]
-            if getattr(el, "has_length", False) and not l0 > 0:
-                raise InputError(f"element '{el.name}' has zero length in the reference configuration; move its points apart")
-            nm = len(el.mode_names)
-            nmode[e] = nm
-            modes[e, :nm] = np.arange(k0, k0 + nm)
-            constitutive = np.array([mode_status[k0 + i] in (FLEXIBLE, FREE) for i in range(nm)], dtype=float)
-            mask = np.outer(constitutive, constitutive)
-            stiff[e, :nm, :nm] = el.stiffness_matrix(l0) * mask
-            damp[e, :nm, :nm] = el.damping_matrix(l0) * mask
-            stress0[e, :nm] = getattr(el, "constant_stress", lambda: np.zeros(nm))() * constitutive
-            k0 += nm
-
-        nodal_mass = np.zeros(n_x)
-        nodal_force = np.zeros(n_x)
-        for p, m in self.point_masses.items():
-            for c, g in zip(self._axes, self.gravity):
-                nodal_mass[index[f"{p}.{c}"]] += m
-                nodal_force[index[f"{p}.{c}"]] += m * g
-        for a, J in self.inertias.items():
-            nodal_mass[index[a]] += J
-        for c, f in self.loads.items():
-            nodal_force[index[c]] += f
-
-        arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, stress0, ipar,
-                             np.array(self.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
-                             len(input_names), nodal_mass, nodal_force)
-        outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
-                                  getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
-                                  getattr(o, "index", -1), None if o.kind != "body_component"
-                                  else np.array(o.direction)) for o in self.outputs)
-        independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in self.independent)
-        compiled = CompiledModel(self.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
-                                 np.array([self.prescribed[c] for c in input_names]), tuple(dynamic_names),
-                                 outputs, independent, tuple(labels), self.dimension)
-        check_constraints(compiled)
-        check_inertia(compiled)
-        return compiled
+        nodal coordinate exactly once in the reference configuration (see
+        :func:`periodyn.model.compile.compile_model`)."""
+        return compile_model(self)

@@ -69,6 +69,33 @@ def _quat(a, b):
     return out
 
 
+class _NoConstitutiveLaw:
+    """Elements whose modes carry no stiffness or damping of their own and that have no
+    inertia (joints, normalizations); a rigid body overrides inertia_parameters."""
+
+    mode_names: tuple[str, ...]
+
+    def stiffness_matrix(self, l0: float) -> np.ndarray:
+        return np.zeros((len(self.mode_names),) * 2)
+
+    damping_matrix = stiffness_matrix
+
+    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
+        return np.zeros(0)
+
+
+class _OnOrientationNode(_NoConstitutiveLaw):
+    """Elements of one orientation node ``name``: its Euler parameters, no geometric data."""
+
+    name: str
+
+    def coordinates(self) -> list[str]:
+        return orientation_coordinates(self.name)
+
+    def parameters(self, x_ref: np.ndarray) -> np.ndarray:
+        return np.zeros(1)
+
+
 def unit_axis(what: str, axis) -> np.ndarray:
     """axis (3,) normalized; InputError if it is not a finite non-zero 3-vector."""
     a = np.asarray(axis, dtype=float)
@@ -79,7 +106,7 @@ def unit_axis(what: str, axis) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class EulerNormalization:
+class EulerNormalization(_OnOrientationNode):
     """The normalization ``lam . lam - 1 = 0`` of orientation node ``node`` (one rigid mode);
     added by the model for every orientation node."""
 
@@ -88,20 +115,6 @@ class EulerNormalization:
 
     family = FAMILY_EULER_NORMALIZATION
     mode_names = ("normalization",)
-
-    def coordinates(self) -> list[str]:
-        return orientation_coordinates(self.name)
-
-    def parameters(self, x_ref: np.ndarray) -> np.ndarray:
-        return np.zeros(1)
-
-    def stiffness_matrix(self, l0: float) -> np.ndarray:
-        return np.zeros((1, 1))
-
-    damping_matrix = stiffness_matrix
-
-    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        return np.zeros(0)
 
 
 @dataclass(frozen=True)
@@ -168,7 +181,7 @@ class SpatialHinge:
 
 
 @dataclass(frozen=True)
-class RigidBody:
+class RigidBody(_OnOrientationNode):
     """Rotational inertia of a rigid body on orientation node ``name``: inertia tensor J
     (3,3) kg m^2 about the centre of mass in body components (the node's frame); its
     mass is a point mass on the position node of the centre of mass. No modes."""
@@ -180,23 +193,12 @@ class RigidBody:
     family = FAMILY_RIGID_BODY
     mode_names = ()
 
-    def coordinates(self) -> list[str]:
-        return orientation_coordinates(self.name)
-
-    def parameters(self, x_ref: np.ndarray) -> np.ndarray:
-        return np.zeros(1)
-
-    def stiffness_matrix(self, l0: float) -> np.ndarray:
-        return np.zeros((0, 0))
-
-    damping_matrix = stiffness_matrix
-
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
         return np.asarray(self.inertia, dtype=float).ravel()
 
 
 @dataclass(frozen=True)
-class RigidLink:
+class RigidLink(_NoConstitutiveLaw):
     """Point ``points[1]`` rigidly carried by point ``points[0]`` and orientation node
     ``orientation`` (a crank arm, a yoke): three rigid modes, the global components of
     ``x_b - x_a - R(lam) d`` (m) with the body offset d from the reference."""
@@ -216,14 +218,6 @@ class RigidLink:
     def parameters(self, x_ref: np.ndarray) -> np.ndarray:
         """d (3,) = R(lam)^T (x_b - x_a) in the reference."""
         return rotation_of(x_ref[3:7]).T @ (x_ref[7:10] - x_ref[0:3])
-
-    def stiffness_matrix(self, l0: float) -> np.ndarray:
-        return np.zeros((3, 3))
-
-    damping_matrix = stiffness_matrix
-
-    def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        return np.zeros(0)
 
 
 def rotation_of(lam) -> np.ndarray:

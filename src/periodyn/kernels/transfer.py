@@ -1,0 +1,136 @@
+"""The transfer function ``x = F(q)`` of an element model (Schwab & Meijaard 2001, eq. 3,
+5-9): Newton solution of the constraint equations ``Phi(x) = b(q)`` (:mod:`.constraints`),
+continuation along a path of inputs, and the derivatives of F by implicit
+differentiation (LU solves with the constraint Jacobian, never its inverse).
+"""
+
+import numpy as np
+from numba import njit
+
+from .constraints import allocate_equations, along, contract2, equations
+
+@njit(cache=True)
+def newton(arr, x, b, tol, max_iter):
+    """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
+    inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
+    2 = singular Jacobian."""
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    res = np.inf
+    for it in range(max_iter + 1):
+        equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+        res = np.max(np.abs(Phi - b))
+        if res <= tol:
+            return it, res, 0
+        if it == max_iter:
+            break
+        if it == 0 and np.linalg.cond(J) > 1e13:
+            return it, res, 2
+        x -= np.linalg.solve(J, Phi - b)
+    return max_iter, res, 1
+
+
+@njit(cache=True)
+def input_jacobian(arr, x):
+    """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+    return np.linalg.solve(J, arr.rhs_q)
+
+
+@njit(cache=True)
+def track(arr, x0, q0, q_targets, tol, max_iter, max_halvings, X, info):
+    """Follow the configuration from (x0, q0) through q_targets (p, n_q) sequentially,
+    Newton with a first-order predictor and step halving; writes X (p, n_x) and
+    info (p, 2) = (iterations, residual). Returns -1 on success or the index of the
+    first target that failed (flag in info[j, 0] = -1 singular, -2 no convergence)."""
+    x = x0.copy()
+    q = q0.copy()
+    for j in range(q_targets.shape[0]):
+        target = q_targets[j]
+        step = target - q
+        fraction = 1.0
+        done = 0.0
+        total_it = 0
+        halvings = 0
+        while done < 1.0:
+            fraction = min(fraction, 1.0 - done)
+            dq = fraction * step
+            Fq = input_jacobian(arr, x)
+            trial = x + Fq @ dq
+            b = arr.rhs0 + arr.rhs_q @ (q + dq)
+            it, res, flag = newton(arr, trial, b, tol, max_iter)
+            total_it += it
+            if flag == 0:
+                x = trial
+                q = q + dq
+                done += fraction
+                info[j, 1] = res
+            else:
+                halvings += 1
+                if halvings > max_halvings:
+                    info[j, 0] = -1.0 if flag == 2 else -2.0
+                    info[j, 1] = res
+                    return j
+                fraction *= 0.5
+        X[j] = x
+        info[j, 0] = total_it
+    return -1
+
+
+@njit(cache=True)
+def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
+    """The part of :func:`motion` that reduced_sample needs (no F_{q^d q^d}): overwrites
+    v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by LU solves with the constraint Jacobian J
+    (never its inverse). Returns the element tensors D, Dx, Dxx and J (n_x, n_x)."""
+    n = x.shape[0]
+    D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+    Fq = np.linalg.solve(J, arr.rhs_q)
+    nr = arr.n_input
+    nd = Fq.shape[1] - nr
+    v[:] = Fq @ qdot
+    tmp = np.empty(n)
+    contract2(arr, Dxx, v, v, tmp)
+    a[:] = Fq @ qddot - np.linalg.solve(J, tmp)
+    FdT = np.ascontiguousarray(Fq[:, nr:].T)  # (nd, n): rows are the columns of F_q^d
+    Fd[:] = FdT.T
+    rhs_v = np.empty((n, nd))  # implicit differentiation, one column per dynamic coordinate
+    col = np.empty(n)
+    for i in range(nd):
+        contract2(arr, Dxx, FdT[i], v, col)
+        rhs_v[:, i] = col
+    Fdv[:] = -np.linalg.solve(J, rhs_v)
+    FdvT = np.ascontiguousarray(Fdv.T)
+    rhs_a = np.empty((n, nd))
+    tmp2 = np.empty(n)
+    Dv = np.empty(Dxx.shape)
+    along(arr, Dxxx, v, Dv)
+    for i in range(nd):
+        contract2(arr, Dv, FdT[i], v, col)
+        contract2(arr, Dxx, FdT[i], a, tmp)
+        contract2(arr, Dxx, FdvT[i], v, tmp2)
+        rhs_a[:, i] = col + tmp + 2.0 * tmp2
+    Fda[:] = -np.linalg.solve(J, rhs_a)
+    return D, Dx, Dxx, J
+
+
+@njit(cache=True)
+def motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda):
+    """Transfer-function derivatives at a solved configuration x for input rates qdot,
+    qddot (n_q,) (all of q, dynamic included). Overwrites
+    v = F_q qdot, a = F_q qddot + F_qq qdot qdot (n_x,), Fd = F_q^d (n_x, n_d),
+    Fdv = F_{q^d q} qdot (n_x, n_d), Fdd = F_{q^d q^d} (n_x, n_d, n_d),
+    Fda = F_{q^d q} qddot + F_{q^d q q} qdot qdot (n_x, n_d)."""
+    n = x.shape[0]
+    nd = Fd.shape[1]
+    D, Dx, Dxx, J = rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda)
+    FdT = np.ascontiguousarray(Fd.T)
+    rhs_dd = np.empty((n, nd * nd))
+    col = np.empty(n)
+    for i in range(nd):
+        for j in range(i, nd):
+            contract2(arr, Dxx, FdT[i], FdT[j], col)
+            rhs_dd[:, i * nd + j] = col
+            rhs_dd[:, j * nd + i] = col
+    Fdd[:] = (-np.linalg.solve(J, rhs_dd)).reshape(n, nd, nd)
+    return D, Dx, Dxx
