@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ConvergenceError, InputError
+from .element_rotor import ElementRotor
 from .model import RotorModel
 
 __all__ = ["campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD"]
@@ -63,7 +64,7 @@ def _eigen(eq, speeds: np.ndarray):
         A[:, n:, :n] = -(K0 + w * K1 + w**2 * K2)
         A[:, n:, n:] = -(C0 + w * C1)
         vals, vecs = np.linalg.eig(A)
-        a, b = vecs[:, 0:n:4], vecs[:, 1:n:4]                 # y and z of every station
+        a, b = eq.lateral[0] @ vecs[:, :n], eq.lateral[1] @ vecs[:, :n]   # y and z of every station
         lam[lo:lo + chunk] = vals
         fwd[lo:lo + chunk] = np.sum(np.abs(a + 1j * b) ** 2, axis=1)
         bwd[lo:lo + chunk] = np.sum(np.abs(a - 1j * b) ** 2, axis=1)
@@ -103,7 +104,7 @@ def _subset(eq, speeds: np.ndarray, count: int):
                                    "use method='dense'") from None
         start = np.real(vecs[:, 0]) + np.imag(vecs[:, 0])
         lam[i] = 1.0 / mu
-        a, b = vecs[0:n:4], vecs[1:n:4]
+        a, b = eq.lateral[0] @ vecs[:n], eq.lateral[1] @ vecs[:n]
         fwd[i] = np.sum(np.abs(a + 1j * b) ** 2, axis=0)
         bwd[i] = np.sum(np.abs(a - 1j * b) ** 2, axis=0)
     return lam, fwd, bwd
@@ -125,7 +126,7 @@ def _stationary(lam, fwd, bwd, speeds, frame):
     return np.take_along_axis(chosen, by_frequency, axis=1), np.take_along_axis(forward, by_frequency, axis=1)
 
 
-def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str = "auto",
+def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = None, frame: str = "auto",
              method: str = "auto") -> xr.Dataset:
     """Eigenvalues of the rotor at spin speeds ``speeds`` (rad/s), converted to the
     stationary frame, the ``modes`` lowest by frequency (default all).
@@ -136,15 +137,17 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     eigenvalues, batched LAPACK), ``subset`` (the 2 modes + 8 eigenvalues nearest the
     origin by sparse ARPACK, in the stationary frame: cost grows about linearly with the
     model; a mode far more damped than it vibrates may be passed over), ``auto``
-    (dense up to 120 coordinates or when the rotating frame is asked for). Returns a dataset with dims
+    (dense up to 120 coordinates or when the rotating frame is asked for). An
+    :class:`ElementRotor` (an element model's co-rotating equations) has only the
+    rotating frame and the dense method. Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
     ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
     speed where a mode becomes unstable, NaN if none in range). Save it with
     :func:`periodyn.results.save`."""
-    if not isinstance(model, RotorModel):
-        raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile() or periodyn.examples.rotor()), "
-                         f"got {type(model).__name__}")
+    if not isinstance(model, (RotorModel, ElementRotor)):
+        raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile(), periodyn.examples.rotor() or an "
+                         f"ElementRotor), got {type(model).__name__}")
     speeds = _speeds(speeds)
     if method not in ("auto", "dense", "subset"):
         raise InputError(f"method must be 'auto', 'dense' or 'subset', got {method!r}")
@@ -152,6 +155,8 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     modes = n if modes is None else int(modes)
     if not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
+    if "stationary" not in model.frames:       # coordinates that turn with the shaft
+        frame = "rotating" if frame == "auto" else frame
     if method == "auto":
         method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 or frame == "rotating" else "subset"
     if frame == "auto":
@@ -159,7 +164,10 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     eq = model.equations(frame)
     if method == "subset":
         if frame != "stationary":
-            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'")
+            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'"
+                             if "stationary" in model.frames else
+                             f"method='subset' works in the stationary frame, which rotor '{model.name}' has not "
+                             "(its coordinates turn with the shaft); use method='dense'")
         lam, fwd, bwd = _subset(eq, speeds, min(2 * modes + 8, 2 * n - 2))
     else:
         lam, fwd, bwd = _eigen(eq, speeds)
