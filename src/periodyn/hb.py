@@ -28,7 +28,7 @@ from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum  # 
 from .system import RheoLinear
 
 __all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS", "BalanceStorage", "balance_storage",
-           "solve_balance", "check_harmonics"]
+           "solve_balance", "check_harmonics", "amplification", "balance_failure"]
 
 
 def singular_balance(omega: float, detail: str) -> InputError:
@@ -39,6 +39,32 @@ def singular_balance(omega: float, detail: str) -> InputError:
 
 
 RESIDUAL_MAX = 1e-6  # relative HB residual above which an LU solve failed (backward-stable: ~1e-15)
+AMPLIFICATION_MAX = RESIDUAL_MAX / np.finfo(float).eps  # ~4.5e9: condition at which rounding may cost 10 digits
+
+
+def amplification(entry_max, x, rhs) -> np.ndarray:
+    """max|W_ij| ||x||_inf / ||rhs||_inf over the last axis of x and rhs (entry_max: the
+    largest entry modulus of each HB matrix): a lower bound of the matrix's condition
+    number (infinity norm) read off one solve; 0 without forcing."""
+    top = np.asarray(entry_max) * np.abs(x).max(axis=-1)
+    bottom = np.abs(rhs).max(axis=-1)
+    return np.where(bottom > 0, top / np.where(bottom > 0, bottom, 1.0), 0.0)
+
+
+def balance_failure(omega: float, residual: float, amplified: float, kind: str) -> str:
+    """Why the HB solve at omega (rad/s) is not a result ('' if it is): a relative
+    residual above RESIDUAL_MAX (also NaN), or a forcing amplified more than
+    AMPLIFICATION_MAX times, i.e. omega within rounding of an undamped resonance."""
+    if not residual <= RESIDUAL_MAX:
+        return (f"the harmonic balance solve ({kind}) at omega = {omega:.6g} rad/s gave a non-finite or inaccurate "
+                f"solution (relative residual {residual:.3g}); the HB matrix is numerically singular or overflows "
+                "(add damping, move omega or rescale the model)")
+    if amplified > AMPLIFICATION_MAX:
+        return (f"the harmonic balance matrix at omega = {omega:.6g} rad/s is nearly singular: the forcing is "
+                f"amplified {amplified:.3g} times (max|W| |q| / |f|, a lower bound of its condition number), so "
+                "rounding may leave fewer than 6 correct digits of a huge response: omega is at an undamped resonance "
+                "(a characteristic exponent within rounding of a multiple of i*omega); add damping or move omega")
+    return ""
 _WORK_BYTES = 4e8  # working memory allowed for one HB factorization (dense or band storage)
 
 
@@ -77,7 +103,8 @@ def _storage(N: int, u: int) -> BalanceStorage:
 
 def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tuple[np.ndarray, float]:
     """Solve W x = rhs with the storage of :func:`balance_storage` (or the one given).
-    Returns harmonics (2m+1, n) and the relative residual; a non-finite solution raises
+    Returns harmonics (2m+1, n) and the relative residual; a non-finite or inaccurate
+    solution, or one at an undamped resonance (:func:`balance_failure`), raises
     ConvergenceError, an exactly singular matrix InputError."""
     pat, W, m, n = op.pattern, op.blocks[0], op.m, op.n
     kind = (storage or balance_storage(pat)).kind
@@ -95,11 +122,9 @@ def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tu
     scale = np.linalg.norm(op.rhs)
     residual = float(np.linalg.norm(pat.apply(W, x) - op.rhs))
     residual = residual / scale if scale > 0 else residual
-    if not residual <= RESIDUAL_MAX:  # also NaN
-        raise ConvergenceError(f"the harmonic balance solve ({kind}) at omega = {op.omega:.6g} rad/s gave a "
-                               f"non-finite or inaccurate solution (relative residual {residual:.3g}); the HB matrix "
-                               "is numerically singular or overflows (add damping, move omega or rescale the model)",
-                               residual=residual, iterations=1)
+    failure = balance_failure(op.omega, residual, float(amplification(np.abs(W).max(), x, op.rhs)), kind)
+    if failure:
+        raise ConvergenceError(failure, residual=residual, iterations=1)
     q = x.reshape(2 * m + 1, n)
     q = 0.5 * (q + np.conj(q[::-1]))  # enforce the conjugate symmetry of a real solution
     return q, residual
