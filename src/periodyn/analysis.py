@@ -211,7 +211,7 @@ class SpeedSolver:
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
-        when the stability analysis fails there."""
+        when the harmonic balance or the stability analysis fails there."""
         batch = self.solve_many([omega])
         if batch.message[0]:
             raise ConvergenceError(str(batch.message[0]))
@@ -241,7 +241,8 @@ class SpeedSolver:
             q, residual = np.zeros((w.size, 2 * m + 1, n), complex), np.full(w.size, np.nan)
             for i, wi in enumerate(w):
                 try:
-                    q[i], residual[i] = solve_balance(self.harmonic.at(wi), self.storage)
+                    row_scale = self.harmonic.balance_scales_many([wi])[0][0]
+                    q[i], residual[i] = solve_balance(self.harmonic.at(wi), self.storage, row_scale)
                 except (InputError, ConvergenceError) as exc:  # singular (InputError) or inaccurate
                     message[i] = str(exc)
             return q, residual, message
@@ -249,7 +250,6 @@ class SpeedSolver:
             ab, b = self.harmonic.banded_many(w)
             y, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
             banded_solve_batch(ab, b, y, residual, failed)
-            entry = np.abs(ab).max(axis=(1, 2))
             for i in np.nonzero(failed)[0]:
                 message[i] = str(singular_balance(w[i], f"zero pivot in column {failed[i] - 1}"))
             y[failed > 0] = 0.0
@@ -267,11 +267,11 @@ class SpeedSolver:
                     except np.linalg.LinAlgError:
                         message[i] = str(singular_balance(w[i], "LAPACK gesv"))
             residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
-            entry = np.abs(A).max(axis=(1, 2))
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
         scale = np.linalg.norm(b, axis=1)
         residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
-        amplified = amplification(entry, y, b)
+        row_scale, rhs = self.harmonic.balance_scales_many(w)
+        amplified = amplification(row_scale, q.reshape(w.size, -1), rhs)
         for i in np.nonzero(message == "")[0]:
             message[i] = balance_failure(w[i], residual[i], amplified[i], self.batch_balance)
         q[message != ""] = 0.0

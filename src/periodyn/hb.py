@@ -42,13 +42,16 @@ RESIDUAL_MAX = 1e-6  # relative HB residual above which an LU solve failed (back
 AMPLIFICATION_MAX = RESIDUAL_MAX / np.finfo(float).eps  # ~4.5e9: condition at which rounding may cost 10 digits
 
 
-def amplification(entry_max, x, rhs) -> np.ndarray:
-    """max|W_ij| ||x||_inf / ||rhs||_inf over the last axis of x and rhs (entry_max: the
-    largest entry modulus of each HB matrix): a lower bound of the matrix's condition
-    number (infinity norm) read off one solve; 0 without forcing."""
-    top = np.asarray(entry_max) * np.abs(x).max(axis=-1)
-    bottom = np.abs(rhs).max(axis=-1)
-    return np.where(bottom > 0, top / np.where(bottom > 0, bottom, 1.0), 0.0)
+def amplification(row_scale, x, rhs) -> np.ndarray:
+    """||x||_inf / max_i(|rhs_i| / row_scale_i) over the last axis (complex basis; row_scale
+    from :meth:`HarmonicOperator.balance_scales_many`): how much the HB solve amplifies the
+    forcing relative to the terms each row balances, a lower bound of the condition number
+    of the term-scaled matrix; 0 without forcing. Cancellation of the terms of a row (an
+    undamped resonance) makes it large, bad scaling between rows does not."""
+    scale = np.asarray(row_scale)
+    rel = np.abs(rhs) / np.where(scale > 0, scale, np.inf)
+    bottom = rel.max(axis=-1)
+    return np.where(bottom > 0, np.abs(x).max(axis=-1) / np.where(bottom > 0, bottom, 1.0), 0.0)
 
 
 def balance_failure(omega: float, residual: float, amplified: float, kind: str) -> str:
@@ -61,7 +64,8 @@ def balance_failure(omega: float, residual: float, amplified: float, kind: str) 
                 "(add damping, move omega or rescale the model)")
     if amplified > AMPLIFICATION_MAX:
         return (f"the harmonic balance matrix at omega = {omega:.6g} rad/s is nearly singular: the forcing is "
-                f"amplified {amplified:.3g} times (max|W| |q| / |f|, a lower bound of its condition number), so "
+                f"amplified {amplified:.3g} times relative to the terms it balances (a lower bound of its "
+                "condition number), so "
                 "rounding may leave fewer than 6 correct digits of a huge response: omega is at an undamped resonance "
                 "(a characteristic exponent within rounding of a multiple of i*omega); add damping or move omega")
     return ""
@@ -101,8 +105,11 @@ def _storage(N: int, u: int) -> BalanceStorage:
     return BalanceStorage("sparse", f"sparse LU, dense and band storage exceed {_WORK_BYTES:.0e} B ({sizes})")
 
 
-def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tuple[np.ndarray, float]:
-    """Solve W x = rhs with the storage of :func:`balance_storage` (or the one given).
+def solve_balance(op: HillOperator, storage: BalanceStorage | None = None,
+                  row_scale: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """Solve W x = rhs with the storage of :func:`balance_storage` (or the one given);
+    row_scale (N,): the term sizes of each row (:meth:`HarmonicOperator.balance_scales_many`),
+    with which a solve at an undamped resonance is refused.
     Returns harmonics (2m+1, n) and the relative residual; a non-finite or inaccurate
     solution, or one at an undamped resonance (:func:`balance_failure`), raises
     ConvergenceError, an exactly singular matrix InputError."""
@@ -122,7 +129,8 @@ def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tu
     scale = np.linalg.norm(op.rhs)
     residual = float(np.linalg.norm(pat.apply(W, x) - op.rhs))
     residual = residual / scale if scale > 0 else residual
-    failure = balance_failure(op.omega, residual, float(amplification(np.abs(W).max(), x, op.rhs)), kind)
+    amplified = 0.0 if row_scale is None else float(amplification(row_scale, x, op.rhs))
+    failure = balance_failure(op.omega, residual, amplified, kind)
     if failure:
         raise ConvergenceError(failure, residual=residual, iterations=1)
     q = x.reshape(2 * m + 1, n)
@@ -140,8 +148,10 @@ def periodic_solution(system: RheoLinear, harmonics: int, *, form: str = "direct
     already built (e.g. ``HarmonicOperator.for_system(system, m, form).at(system.omega)``).
     """
     m = check_harmonics(harmonics)
+    row_scale = None
     if operator is None:
-        operator = HarmonicOperator.for_system(system, m, form).at(system.omega)
-    q, residual = solve_balance(operator)
+        harmonic = HarmonicOperator.for_system(system, m, form)
+        operator, row_scale = harmonic.at(system.omega), harmonic.balance_scales_many([system.omega])[0][0]
+    q, residual = solve_balance(operator, row_scale=row_scale)
     return PeriodicSolution(system.omega, q, output_spectrum(system.spectra.outputs, q), system.coordinate_names,
                             system.output_names, residual, form)

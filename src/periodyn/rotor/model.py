@@ -88,13 +88,11 @@ class RotorModel:
         if frame not in FRAMES:
             raise InputError(f"frame must be one of {FRAMES}, got {frame!r}")
         M, C, K = self._terms(frame, 2.0 * np.pi * np.arange(_ANGLES) / _ANGLES)
-        parts = [M, *C, *K]
-        scale = max(np.abs(a).max() for a in parts)
-        drift = max(np.abs(a - a[0]).max() for a in parts)
-        if drift > 1e-12 * scale:
+        drift = angle_drift([M, *C, *K])
+        if drift > 1e-12:
             raise InputError(
                 f"rotor '{self.name}': its co-rotating equations depend on the spin angle (an anisotropic bearing "
-                f"or seal, relative variation {drift / scale:.2g}); use frame='stationary', where an axisymmetric "
+                f"or seal, relative variation {drift:.2g}); use frame='stationary', where an axisymmetric "
                 "shaft on anisotropic supports is time-invariant, or rheo_linear() for the periodic co-rotating system")
         lateral = np.zeros((2, self.stations.size, self.n))
         k = np.arange(self.stations.size)
@@ -110,6 +108,13 @@ class RotorModel:
         w = float(speed)
         return RheoLinear.from_samples(M, C[0] + w * C[1], K[0] + w * K[1] + w**2 * K[2], np.zeros(M.shape[:2]), w,
                                        coordinate_names=self.coordinate_names)
+
+
+def angle_drift(parts) -> float:
+    """Largest change over the spin angles (leading axis) of the sampled matrices
+    ``parts``, relative to their largest entry: 0 for time-invariant equations."""
+    scale = max(np.abs(a).max() for a in parts)
+    return max(np.abs(a - a[0]).max() for a in parts) / scale if scale > 0 else 0.0
 
 
 def _spin_transfer(n: int, angles: np.ndarray):
