@@ -216,19 +216,23 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
 
 def stability_threshold(ds: xr.Dataset) -> float:
     """Lowest speed (rad/s) where the largest real part of the eigenvalues
-    (``max_real_eigenvalue``, else of the listed modes) exceeds the growth tolerance,
-    linearly interpolated between grid speeds; NaN if every speed is stable. The
-    tolerance is the one stability verdict's (:data:`periodyn.floquet.STABILITY_TOL`)
-    per cycle of the fastest listed mode, ``STABILITY_TOL |lambda|_max / (2 pi)``: the
-    rounding of an undamped rotor's neutral modes (Re ~ 1e-10 1/s) is not an instability."""
+    (``max_real_eigenvalue``, else of the listed modes) crosses zero towards an
+    instability, linearly interpolated between grid speeds; NaN if every speed is
+    stable. A speed is unstable when that real part exceeds the one stability verdict's
+    tolerance (:data:`periodyn.floquet.STABILITY_TOL`) per cycle of the fastest listed
+    mode, ``STABILITY_TOL |lambda|_max / (2 pi)``: the rounding of an undamped rotor's
+    neutral modes (Re ~ 1e-10 1/s) is not an instability. The crossing is the last
+    sign change of the growth before the first unstable speed."""
     eigenvalues = ds["eigenvalue"].values
     growth = ds["max_real_eigenvalue"].values if "max_real_eigenvalue" in ds else eigenvalues.real.max(axis=1)
-    growth = growth - STABILITY_TOL / (2.0 * np.pi) * np.abs(eigenvalues).max(axis=1)
+    tol = STABILITY_TOL / (2.0 * np.pi) * np.abs(eigenvalues).max(axis=1)
     speed = ds["speed"].values
-    above = np.nonzero(growth > 0.0)[0]
+    above = np.nonzero(growth > tol)[0]
     if above.size == 0:
         return float("nan")
     j = int(above[0])
+    while j > 0 and growth[j - 1] > 0.0:   # back to where the growth turned positive
+        j -= 1
     if j == 0:
         return float(speed[0])
     g0, g1 = growth[j - 1], growth[j]
