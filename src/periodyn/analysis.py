@@ -18,7 +18,7 @@ from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import from_real_basis
-from .hb import RESIDUAL_MAX, balance_storage, periodic_solution, singular_balance, solve_balance
+from .hb import amplification, balance_failure, balance_storage, periodic_solution, singular_balance, solve_balance
 from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
                    dense_exponents_batch, hill_cost, magnus_reason, method_costs, operator_exponents)
 from .kernels.banded import banded_solve_batch
@@ -211,7 +211,7 @@ class SpeedSolver:
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
-        when the stability analysis fails there."""
+        when the harmonic balance or the stability analysis fails there."""
         batch = self.solve_many([omega])
         if batch.message[0]:
             raise ConvergenceError(str(batch.message[0]))
@@ -230,39 +230,52 @@ class SpeedSolver:
                           *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
                             if f not in ("omega", "output_names")))
 
-    def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Harmonics (S, 2m+1, n) and relative HB residuals (S,) at speeds w (S,)."""
+    def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Harmonics (S, 2m+1, n) (zero where failed), relative HB residuals (S,) and
+        failure messages (S,) ('' where solved) at speeds w (S,): an exactly or nearly
+        singular HB matrix (an undamped resonance) or an inaccurate solve fails its own
+        speed (:func:`periodyn.hb.balance_failure`), never the chunk."""
         m, n = self.m, self.model.n
+        message = np.full(w.size, "", dtype=object)
         if self.batch_balance is None:
-            solved = [solve_balance(self.harmonic.at(wi), self.storage) for wi in w]
-            return np.stack([q for q, _ in solved]), np.array([r for _, r in solved])
+            q, residual = np.zeros((w.size, 2 * m + 1, n), complex), np.full(w.size, np.nan)
+            for i, wi in enumerate(w):
+                try:
+                    row_scale = self.harmonic.balance_scales_many([wi])[0][0]
+                    q[i], residual[i] = solve_balance(self.harmonic.at(wi), self.storage, row_scale)
+                except (InputError, ConvergenceError) as exc:  # singular (InputError) or inaccurate
+                    message[i] = str(exc)
+            return q, residual, message
         if self.batch_balance == "banded":
             ab, b = self.harmonic.banded_many(w)
-            x, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
-            banded_solve_batch(ab, b, x, residual, failed)
-            if failed.any():
-                raise singular_balance(w[failed > 0][0], f"zero pivot in column {failed[failed > 0][0] - 1}")
-            q = x.reshape(-1, 2 * m + 1, n)
+            y, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
+            banded_solve_batch(ab, b, y, residual, failed)
+            for i in np.nonzero(failed)[0]:
+                message[i] = str(singular_balance(w[i], f"zero pivot in column {failed[i] - 1}"))
+            y[failed > 0] = 0.0
+            q = y.reshape(-1, 2 * m + 1, n)
             q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
         else:
             A, b = self.harmonic.real_balance_many(w)
             try:
                 y = np.linalg.solve(A, b[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                singular = [i for i in range(w.size) if np.linalg.matrix_rank(A[i]) < A.shape[1]]
-                raise singular_balance(w[singular[0]] if singular else w[0], "LAPACK gesv") from None
+            except np.linalg.LinAlgError:  # one exactly singular speed: solve the others one by one
+                y = np.zeros_like(b)
+                for i in range(w.size):
+                    try:
+                        y[i] = np.linalg.solve(A[i], b[i])
+                    except np.linalg.LinAlgError:
+                        message[i] = str(singular_balance(w[i], "LAPACK gesv"))
             residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
         scale = np.linalg.norm(b, axis=1)
         residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
-        failed = ~(residual <= RESIDUAL_MAX)  # also NaN
-        if failed.any():
-            i = int(np.argmax(failed))
-            raise ConvergenceError(f"the harmonic balance solve at omega = {w[i]:.6g} rad/s gave a non-finite or "
-                                   f"inaccurate solution (relative residual {residual[i]:.3g}); the HB matrix is "
-                                   "numerically singular or overflows (add damping, move omega or rescale the model)",
-                                   residual=float(residual[i]), iterations=1)
-        return q, residual
+        row_scale, rhs = self.harmonic.balance_scales_many(w)
+        amplified = amplification(row_scale, q.reshape(w.size, -1), rhs)
+        for i in np.nonzero(message == "")[0]:
+            message[i] = balance_failure(w[i], residual[i], amplified[i], self.batch_balance)
+        q[message != ""] = 0.0
+        return q, residual, message
 
     def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
@@ -314,7 +327,7 @@ class SpeedSolver:
         return exps, message, methods
 
     def _solve_chunk(self, w: np.ndarray) -> SpeedBatch:
-        q, residual = self._balance(w)
+        q, residual, balance_message = self._balance(w)
         spectrum = output_spectrum(self.output_spectra, q)  # (S, 2M+1, n_out)
         S, H, n_out = spectrum.shape
         half, mean = half_range_and_mean(np.moveaxis(spectrum, 0, 1).reshape(H, S * n_out))
@@ -329,8 +342,13 @@ class SpeedSolver:
             exps = multipliers = np.full((S, 2 * self.model.n), np.nan + 0j)
             max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)
             methods = message
-        return SpeedBatch(w, self.model.output_names, harmonics, half.reshape(S, n_out), mean.reshape(S, n_out),
-                          residual, exps, multipliers, max_real, stable, message.astype(str), methods.astype(str))
+        failed = balance_message != ""  # no periodic solution: the point fails with the HB's reason
+        message = np.where(failed, balance_message, message)
+        columns = (np.where(failed.reshape((S,) + (1,) * (a.ndim - 1)), np.nan, a)
+                   for a in (harmonics, half.reshape(S, n_out), mean.reshape(S, n_out), residual, exps, multipliers,
+                             max_real))
+        return SpeedBatch(w, self.model.output_names, *columns, stable & ~failed, message.astype(str),
+                          methods.astype(str))
 
 
 def check_speeds(omegas) -> np.ndarray:

@@ -28,7 +28,7 @@ from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum  # 
 from .system import RheoLinear
 
 __all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS", "BalanceStorage", "balance_storage",
-           "solve_balance", "check_harmonics"]
+           "solve_balance", "check_harmonics", "amplification", "balance_failure"]
 
 
 def singular_balance(omega: float, detail: str) -> InputError:
@@ -39,6 +39,36 @@ def singular_balance(omega: float, detail: str) -> InputError:
 
 
 RESIDUAL_MAX = 1e-6  # relative HB residual above which an LU solve failed (backward-stable: ~1e-15)
+AMPLIFICATION_MAX = RESIDUAL_MAX / np.finfo(float).eps  # ~4.5e9: condition at which rounding may cost 10 digits
+
+
+def amplification(row_scale, x, rhs) -> np.ndarray:
+    """||x||_inf / max_i(|rhs_i| / row_scale_i) over the last axis (complex basis; row_scale
+    from :meth:`HarmonicOperator.balance_scales_many`): how much the HB solve amplifies the
+    forcing relative to the terms each row balances, a lower bound of the condition number
+    of the term-scaled matrix; 0 without forcing. Cancellation of the terms of a row (an
+    undamped resonance) makes it large, bad scaling between rows does not."""
+    scale = np.asarray(row_scale)
+    rel = np.abs(rhs) / np.where(scale > 0, scale, np.inf)
+    bottom = rel.max(axis=-1)
+    return np.where(bottom > 0, np.abs(x).max(axis=-1) / np.where(bottom > 0, bottom, 1.0), 0.0)
+
+
+def balance_failure(omega: float, residual: float, amplified: float, kind: str) -> str:
+    """Why the HB solve at omega (rad/s) is not a result ('' if it is): a relative
+    residual above RESIDUAL_MAX (also NaN), or a forcing amplified more than
+    AMPLIFICATION_MAX times, i.e. omega within rounding of an undamped resonance."""
+    if not residual <= RESIDUAL_MAX:
+        return (f"the harmonic balance solve ({kind}) at omega = {omega:.6g} rad/s gave a non-finite or inaccurate "
+                f"solution (relative residual {residual:.3g}); the HB matrix is numerically singular or overflows "
+                "(add damping, move omega or rescale the model)")
+    if amplified > AMPLIFICATION_MAX:
+        return (f"the harmonic balance matrix at omega = {omega:.6g} rad/s is nearly singular: the forcing is "
+                f"amplified {amplified:.3g} times relative to the terms it balances (a lower bound of its "
+                "condition number), so "
+                "rounding may leave fewer than 6 correct digits of a huge response: omega is at an undamped resonance "
+                "(a characteristic exponent within rounding of a multiple of i*omega); add damping or move omega")
+    return ""
 _WORK_BYTES = 4e8  # working memory allowed for one HB factorization (dense or band storage)
 
 
@@ -75,9 +105,13 @@ def _storage(N: int, u: int) -> BalanceStorage:
     return BalanceStorage("sparse", f"sparse LU, dense and band storage exceed {_WORK_BYTES:.0e} B ({sizes})")
 
 
-def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tuple[np.ndarray, float]:
-    """Solve W x = rhs with the storage of :func:`balance_storage` (or the one given).
-    Returns harmonics (2m+1, n) and the relative residual; a non-finite solution raises
+def solve_balance(op: HillOperator, storage: BalanceStorage | None = None,
+                  row_scale: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """Solve W x = rhs with the storage of :func:`balance_storage` (or the one given);
+    row_scale (N,): the term sizes of each row (:meth:`HarmonicOperator.balance_scales_many`),
+    with which a solve at an undamped resonance is refused.
+    Returns harmonics (2m+1, n) and the relative residual; a non-finite or inaccurate
+    solution, or one at an undamped resonance (:func:`balance_failure`), raises
     ConvergenceError, an exactly singular matrix InputError."""
     pat, W, m, n = op.pattern, op.blocks[0], op.m, op.n
     kind = (storage or balance_storage(pat)).kind
@@ -95,11 +129,10 @@ def solve_balance(op: HillOperator, storage: BalanceStorage | None = None) -> tu
     scale = np.linalg.norm(op.rhs)
     residual = float(np.linalg.norm(pat.apply(W, x) - op.rhs))
     residual = residual / scale if scale > 0 else residual
-    if not residual <= RESIDUAL_MAX:  # also NaN
-        raise ConvergenceError(f"the harmonic balance solve ({kind}) at omega = {op.omega:.6g} rad/s gave a "
-                               f"non-finite or inaccurate solution (relative residual {residual:.3g}); the HB matrix "
-                               "is numerically singular or overflows (add damping, move omega or rescale the model)",
-                               residual=residual, iterations=1)
+    amplified = 0.0 if row_scale is None else float(amplification(row_scale, x, op.rhs))
+    failure = balance_failure(op.omega, residual, amplified, kind)
+    if failure:
+        raise ConvergenceError(failure, residual=residual, iterations=1)
     q = x.reshape(2 * m + 1, n)
     q = 0.5 * (q + np.conj(q[::-1]))  # enforce the conjugate symmetry of a real solution
     return q, residual
@@ -115,8 +148,10 @@ def periodic_solution(system: RheoLinear, harmonics: int, *, form: str = "direct
     already built (e.g. ``HarmonicOperator.for_system(system, m, form).at(system.omega)``).
     """
     m = check_harmonics(harmonics)
+    row_scale = None
     if operator is None:
-        operator = HarmonicOperator.for_system(system, m, form).at(system.omega)
-    q, residual = solve_balance(operator)
+        harmonic = HarmonicOperator.for_system(system, m, form)
+        operator, row_scale = harmonic.at(system.omega), harmonic.balance_scales_many([system.omega])[0][0]
+    q, residual = solve_balance(operator, row_scale=row_scale)
     return PeriodicSolution(system.omega, q, output_spectrum(system.spectra.outputs, q), system.coordinate_names,
                             system.output_names, residual, form)

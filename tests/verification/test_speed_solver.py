@@ -94,15 +94,63 @@ def test_hb_storage_follows_the_coefficient_band():
     assert not wide.pattern.narrow and wide.batch_balance == "dense" and wide.storage.kind == "dense"
 
 
-def test_undamped_resonance_names_the_speed():
-    """q'' + q = cos(theta): the HB matrix is exactly singular where l omega = 1."""
+def _forced_oscillator(k):
+    """q'' + k q = cos(theta), undamped: resonant where (l omega)^2 = k."""
     p = 16
     theta = 2 * np.pi * np.arange(p) / p
-    model = periodyn.OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [], [np.ones((p, 1, 1))],
-                                                  [np.cos(theta)[:, None]])
-    solver = SpeedSolver(model, 3, stability=False)
+    return periodyn.OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [], [np.full((p, 1, 1), float(k))],
+                                                 [np.cos(theta)[:, None]])
+
+
+@pytest.mark.parametrize("path", ["banded", "dense", None])
+def test_undamped_resonance_names_the_speed(path):
+    """q'' + q = cos(theta): the HB matrix is exactly singular where l omega = 1. In a
+    batch of speeds that speed is a failed point with the reason (the others are solved,
+    by each HB path: jitted banded, stacked dense, per speed); alone it raises."""
+    solver = SpeedSolver(_forced_oscillator(1.0), 3, stability=False)
+    solver.batch_balance = path
+    batch = solver.solve_many([0.3, 0.7, 1.0, 2.0])  # (l omega)^2 = 1 only at omega = 1 for |l| <= 3
+    assert "singular at omega = 1 rad/s" in batch.message[2] and "add damping or move omega" in batch.message[2]
+    assert list(batch.message != "") == [False, False, True, False]
+    assert np.isnan(batch.amplitude[2]).all() and np.isfinite(batch.amplitude[[0, 1, 3]]).all()
+    np.testing.assert_allclose(batch.amplitude[[0, 1, 3], 0], 1 / np.abs(1 - np.array([0.3, 0.7, 2.0]) ** 2),
+                               rtol=1e-12)
+    with pytest.raises(periodyn.ConvergenceError, match="singular at omega = 1 rad/s"):
+        solver.solve(1.0)
     with pytest.raises(periodyn.InputError, match="singular at omega = 1 rad/s"):
-        solver.solve_many([0.3, 0.7, 1.0, 2.0])  # (l omega)^2 = 1 only at omega = 1 for |l| <= 3
+        periodyn.periodic_solution(solver.model.at(1.0), 3)
+
+
+@pytest.mark.parametrize("path", ["banded", "dense", None])
+def test_speed_within_rounding_of_an_undamped_resonance_is_a_failed_point(path):
+    """q'' + 2 q = cos(theta) near omega = sqrt(2): not exactly singular in floating point,
+    but the forcing is amplified ~1/|2 - omega^2| times. Within 1e-12 of the resonance
+    (amplification 1e12 > 4.5e9) the point fails with the reason; 1e-6 away the large
+    response (3.5e5) is solved and exact to 1e-8."""
+    solver = SpeedSolver(_forced_oscillator(2.0), 3, stability=False)
+    solver.batch_balance = path
+    w = np.sqrt(2.0) * np.array([1.0, 1.0 + 1e-12, 1.0 + 1e-6])
+    batch = solver.solve_many(w)
+    for i in (0, 1):
+        assert "nearly singular" in batch.message[i] and "undamped resonance" in batch.message[i]
+        assert "add damping or move omega" in batch.message[i] and np.isnan(batch.amplitude[i]).all()
+    assert batch.message[2] == ""
+    np.testing.assert_allclose(batch.amplitude[2, 0], 1 / abs(2 - w[2] ** 2), rtol=1e-8)
+    with pytest.raises(periodyn.ConvergenceError, match="nearly singular"):
+        periodyn.periodic_solution(solver.model.at(w[1]), 3)
+
+
+def test_sweep_across_an_undamped_resonance_flags_only_that_point():
+    """A sweep of the undamped forced oscillator through its resonance (and a speed
+    within rounding of it): the near-resonant point is failed with its reason in the
+    dataset (status 1, message), the speeds around it are solved, with stability."""
+    w = np.sort(np.r_[np.linspace(1.0, 2.0, 9), np.sqrt(2.0)])
+    ds = periodyn.sweep(_forced_oscillator(2.0), w, 3, stability=True, method="dense")
+    bad = np.isclose(ds.omega.values, np.sqrt(2.0), rtol=0, atol=1e-15)
+    assert bad.sum() == 1 and ds.status.values[bad][0] == 1
+    assert "undamped resonance" in str(ds.message.values[bad][0])
+    assert (ds.status.values[~bad] == 0).all() and np.isfinite(ds.amplitude.values[~bad]).all()
+    assert np.isnan(ds.amplitude.values[bad]).all()
 
 
 def test_unresolved_clusters_are_reported_per_speed(monkeypatch):

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..rotor import Bearing, Rotor, Seal
+from ..rotor import Bearing, Rotor, Seal, spatial_rotor
 
 INCH = 0.0254          # m
 POUND = 0.45359237     # kg
@@ -20,11 +20,16 @@ TABLE_I_REFERENCE = (  # Sundararajan & Noah (1998), as listed in Table I
     -44.30 + 1893.95j, -45.77 + 1922.70j, -158.48 + 4233.10j, -153.89 + 4305.32j)
 
 
-def rotor(elements: int = 5, rotary_inertia: bool = True):
+def rotor(elements: int = 5, rotary_inertia: bool = True, shaft: str = "rotor"):
     """The compiled rotor of section 4.3: steel shaft 50 in long, 4 in diameter, in
     ``elements`` equal Euler-Bernoulli elements (a multiple of 5 so that stations fall
     at every 10 in); isotropic bearings (100 000 lbf/in) at 0 and 10 in; the seal of
-    eq. (30) at 20 in with 6.68 kg of added mass; disks at 40 and 50 in."""
+    eq. (30) at 20 in with 6.68 kg of added mass; disks at 40 and 50 in. shaft: "rotor"
+    (a RotorModel of rotor shaft elements) or "spatial" (an ElementRotor: the shaft of
+    spatial beams spinning at the prescribed speed, the disks rigid bodies, see
+    :mod:`periodyn.rotor.element_rotor`)."""
+    if shaft not in ("rotor", "spatial"):
+        raise InputError(f"shaft must be 'rotor' or 'spatial', got {shaft!r}")
     if not isinstance(elements, int) or elements < 5 or elements % 5:
         raise InputError(f"elements must be a positive multiple of 5 so that stations fall at the bearings, seal and "
                          f"disks; got {elements!r}")
@@ -41,4 +46,4 @@ def rotor(elements: int = 5, rotary_inertia: bool = True):
     inertia = POUND_FORCE * INCH                         # lbf s^2 in -> kg m^2
     for at in (40 * INCH, 50 * INCH):
         r.add_disk(at, mass=disk_mass, polar=0.224 * inertia, diametral=0.114 * inertia)
-    return r.compile()
+    return spatial_rotor(r) if shaft == "spatial" else r.compile()

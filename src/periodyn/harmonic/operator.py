@@ -296,6 +296,22 @@ class HarmonicOperator(_OnPattern):
         return (np.einsum("sp,pbij->sbij", pw, self.W), np.einsum("sp,pbij->sbij", pw[:, : len(self.V)], self.V),
                 pw[:, : len(self.rhs)] @ self.rhs)
 
+    def balance_scales_many(self, omegas) -> tuple[np.ndarray, np.ndarray]:
+        """Per row of the HB matrix (complex basis, row (k + m) n + i) the largest modulus
+        of the omega-power terms it sums, ``max_p |w|^p max_j |W_p[row, j]|`` (S, N), and
+        the right-hand sides (S, N), at speeds (S,): the sizes an undamped resonance cancels."""
+        pw = self._powers(omegas, len(self.W))
+        return np.max(np.abs(pw)[:, :, None] * self._row_terms[None], axis=1), pw[:, : len(self.rhs)] @ self.rhs
+
+    @cached_property
+    def _row_terms(self) -> np.ndarray:
+        """max_j |W_p[row, j]| per omega power and row, (PW, N)."""
+        pat, n = self.pattern, self.W.shape[2]
+        out = np.zeros((len(self.W), pat.size // n, n))
+        for p, Wp in enumerate(self.W):
+            np.maximum.at(out[p], pat.k_index - pat.k_index.min(), np.abs(Wp).max(axis=2))
+        return out.reshape(len(self.W), pat.size)
+
     def banded_many(self, omegas) -> tuple[np.ndarray, np.ndarray]:
         """HB matrices in LAPACK band storage (S, 2u+1, N) and right-hand sides (S, N)."""
         pw = self._powers(omegas, len(self.W))

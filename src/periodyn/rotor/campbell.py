@@ -21,6 +21,8 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ConvergenceError, InputError
+from ..floquet import STABILITY_TOL
+from .element_rotor import ElementRotor
 from .model import RotorModel
 
 __all__ = ["campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD"]
@@ -63,7 +65,7 @@ def _eigen(eq, speeds: np.ndarray):
         A[:, n:, :n] = -(K0 + w * K1 + w**2 * K2)
         A[:, n:, n:] = -(C0 + w * C1)
         vals, vecs = np.linalg.eig(A)
-        a, b = vecs[:, 0:n:4], vecs[:, 1:n:4]                 # y and z of every station
+        a, b = eq.lateral[0] @ vecs[:, :n], eq.lateral[1] @ vecs[:, :n]   # y and z of every station
         lam[lo:lo + chunk] = vals
         fwd[lo:lo + chunk] = np.sum(np.abs(a + 1j * b) ** 2, axis=1)
         bwd[lo:lo + chunk] = np.sum(np.abs(a - 1j * b) ** 2, axis=1)
@@ -73,9 +75,12 @@ def _eigen(eq, speeds: np.ndarray):
 def _subset(eq, speeds: np.ndarray, count: int):
     """The ``count`` eigenvalues nearest the origin per speed, by ARPACK on the inverse
     state operator ``[x; y] -> [-K^-1 (C x + M y); x]`` (one sparse LU of K per speed,
-    or once when K does not depend on the speed); same outputs as :func:`_eigen`."""
+    or once when K does not depend on the speed); same outputs as :func:`_eigen`, and
+    the number of speeds where ARPACK did not converge (repeated eigenvalues, as of an
+    undamped isotropic rotor at rest, where every frequency is double) and the dense
+    solver gave the ``count`` nearest the origin instead."""
     import scipy.sparse as sp
-    from scipy.sparse.linalg import LinearOperator, eigs, splu
+    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, LinearOperator, eigs
 
     n = eq.mass.shape[0]
     M = sp.csr_matrix(eq.mass)
@@ -85,11 +90,12 @@ def _subset(eq, speeds: np.ndarray, count: int):
     lam = np.empty((speeds.size, count), dtype=complex)
     fwd = np.empty((speeds.size, count))
     bwd = np.empty((speeds.size, count))
-    lu = splu(K0) if constant_k else None
+    lu = _stiffness_lu(K0, 0.0) if constant_k else None
     start = np.ones(2 * n)
+    fallbacks = 0
     for i, w in enumerate(speeds):
         if not constant_k:
-            lu = splu(sp.csc_matrix(K0 + w * K1 + w**2 * K2))
+            lu = _stiffness_lu(sp.csc_matrix(K0 + w * K1 + w**2 * K2), w)
         C = C0 + w * C1
 
         def apply(v, lu=lu, C=C):
@@ -98,15 +104,33 @@ def _subset(eq, speeds: np.ndarray, count: int):
 
         try:
             mu, vecs = eigs(LinearOperator((2 * n, 2 * n), matvec=apply, dtype=float), k=count, v0=start, tol=1e-13)
-        except Exception as exc:  # ARPACK non-convergence
-            raise ConvergenceError(f"subset eigenvalues did not converge at speed {w:.6g} rad/s ({exc}); "
-                                   "use method='dense'") from None
+        except ArpackNoConvergence:
+            every, f, b = _eigen(eq, np.array([w]))
+            nearest = np.argsort(np.abs(every[0]), kind="stable")[:count]
+            lam[i], fwd[i], bwd[i] = every[0, nearest], f[0, nearest], b[0, nearest]
+            fallbacks += 1
+            continue
+        except ArpackError as exc:
+            raise ConvergenceError(f"subset eigenvalues failed at speed {w:.6g} rad/s ({exc}); use method='dense'"
+                                   ) from None
         start = np.real(vecs[:, 0]) + np.imag(vecs[:, 0])
         lam[i] = 1.0 / mu
-        a, b = vecs[0:n:4], vecs[1:n:4]
+        a, b = eq.lateral[0] @ vecs[:n], eq.lateral[1] @ vecs[:n]
         fwd[i] = np.sum(np.abs(a + 1j * b) ** 2, axis=0)
         bwd[i] = np.sum(np.abs(a - 1j * b) ** 2, axis=0)
-    return lam, fwd, bwd
+    return lam, fwd, bwd, fallbacks
+
+
+def _stiffness_lu(K, speed: float):
+    """Sparse LU of the stiffness at ``speed`` (rad/s); InputError when it is singular."""
+    from scipy.sparse.linalg import splu
+
+    try:
+        return splu(K)
+    except RuntimeError:   # exactly singular
+        raise InputError(f"method='subset' needs a non-singular stiffness matrix, but it is singular at speed "
+                         f"{speed:.6g} rad/s (an unsupported rotor: rigid-body modes at zero frequency); add "
+                         "bearings or use method='dense'") from None
 
 
 def _stationary(lam, fwd, bwd, speeds, frame):
@@ -125,7 +149,7 @@ def _stationary(lam, fwd, bwd, speeds, frame):
     return np.take_along_axis(chosen, by_frequency, axis=1), np.take_along_axis(forward, by_frequency, axis=1)
 
 
-def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str = "auto",
+def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = None, frame: str = "auto",
              method: str = "auto") -> xr.Dataset:
     """Eigenvalues of the rotor at spin speeds ``speeds`` (rad/s), converted to the
     stationary frame, the ``modes`` lowest by frequency (default all).
@@ -136,15 +160,18 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     eigenvalues, batched LAPACK), ``subset`` (the 2 modes + 8 eigenvalues nearest the
     origin by sparse ARPACK, in the stationary frame: cost grows about linearly with the
     model; a mode far more damped than it vibrates may be passed over), ``auto``
-    (dense up to 120 coordinates or when the rotating frame is asked for). Returns a dataset with dims
+    (dense up to 120 coordinates or when the rotating frame is asked for). An
+    :class:`ElementRotor` (an element model's co-rotating equations) has only the
+    rotating frame and the dense method. Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
-    ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found; attrs ``frame``, ``rotor`` and ``threshold_speed`` (rad/s, the lowest
-    speed where a mode becomes unstable, NaN if none in range). Save it with
-    :func:`periodyn.results.save`."""
-    if not isinstance(model, RotorModel):
-        raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile() or periodyn.examples.rotor()), "
-                         f"got {type(model).__name__}")
+    ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found; attrs ``frame``, ``rotor``,
+    ``dense_fallback_speeds`` (speeds the subset solver left to the dense one) and ``threshold_speed``
+    (rad/s, the lowest speed where a mode becomes unstable, NaN if none in range; see
+    :func:`stability_threshold`). Save it with :func:`periodyn.results.save`."""
+    if not isinstance(model, (RotorModel, ElementRotor)):
+        raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile(), periodyn.examples.rotor() or an "
+                         f"ElementRotor), got {type(model).__name__}")
     speeds = _speeds(speeds)
     if method not in ("auto", "dense", "subset"):
         raise InputError(f"method must be 'auto', 'dense' or 'subset', got {method!r}")
@@ -152,6 +179,8 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     modes = n if modes is None else int(modes)
     if not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
+    if "stationary" not in model.frames:       # coordinates that turn with the shaft
+        frame = "rotating" if frame == "auto" else frame
     if method == "auto":
         method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 or frame == "rotating" else "subset"
     if frame == "auto":
@@ -159,10 +188,13 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
     eq = model.equations(frame)
     if method == "subset":
         if frame != "stationary":
-            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'")
-        lam, fwd, bwd = _subset(eq, speeds, min(2 * modes + 8, 2 * n - 2))
+            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'"
+                             if "stationary" in model.frames else
+                             f"method='subset' works in the stationary frame, which rotor '{model.name}' has not "
+                             "(its coordinates turn with the shaft); use method='dense'")
+        lam, fwd, bwd, fallbacks = _subset(eq, speeds, min(2 * modes + 8, 2 * n - 2))
     else:
-        lam, fwd, bwd = _eigen(eq, speeds)
+        (lam, fwd, bwd), fallbacks = _eigen(eq, speeds), 0
     values, forward = _stationary(lam, fwd, bwd, speeds, frame)
     if values.shape[1] < modes:
         raise ConvergenceError(f"only {values.shape[1]} vibrating modes found among the eigenvalues nearest the "
@@ -177,22 +209,30 @@ def campbell(model: RotorModel, speeds, *, modes: int | None = None, frame: str 
          "max_real_eigenvalue": ("speed", growth, {"units": "1/s", "long_name": "largest real part of all modes"})},
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(modes),
                 "speed_rpm": ("speed", speeds * 30.0 / np.pi, {"units": "rpm"})},
-        attrs={"frame": frame, "method": method, "rotor": model.name})
+        attrs={"frame": frame, "method": method, "rotor": model.name, "dense_fallback_speeds": fallbacks})
     ds.attrs["threshold_speed"] = stability_threshold(ds)
     return ds
 
 
 def stability_threshold(ds: xr.Dataset) -> float:
     """Lowest speed (rad/s) where the largest real part of the eigenvalues
-    (``max_real_eigenvalue``, else of the listed modes) crosses zero, linearly
-    interpolated between grid speeds; NaN if every speed is stable."""
-    growth = (ds["max_real_eigenvalue"].values if "max_real_eigenvalue" in ds
-              else ds["eigenvalue"].values.real.max(axis=1))
+    (``max_real_eigenvalue``, else of the listed modes) crosses zero towards an
+    instability, linearly interpolated between grid speeds; NaN if every speed is
+    stable. A speed is unstable when that real part exceeds the one stability verdict's
+    tolerance (:data:`periodyn.floquet.STABILITY_TOL`) per cycle of the fastest listed
+    mode, ``STABILITY_TOL |lambda|_max / (2 pi)``: the rounding of an undamped rotor's
+    neutral modes (Re ~ 1e-10 1/s) is not an instability. The crossing is the last
+    sign change of the growth before the first unstable speed."""
+    eigenvalues = ds["eigenvalue"].values
+    growth = ds["max_real_eigenvalue"].values if "max_real_eigenvalue" in ds else eigenvalues.real.max(axis=1)
+    tol = STABILITY_TOL / (2.0 * np.pi) * np.abs(eigenvalues).max(axis=1)
     speed = ds["speed"].values
-    above = np.nonzero(growth >= 0.0)[0]
+    above = np.nonzero(growth > tol)[0]
     if above.size == 0:
         return float("nan")
     j = int(above[0])
+    while j > 0 and growth[j - 1] > 0.0:   # back to where the growth turned positive
+        j -= 1
     if j == 0:
         return float(speed[0])
     g0, g1 = growth[j - 1], growth[j]

@@ -36,13 +36,16 @@ _ANGLES = 4          # spin angles at which time-invariance of the co-rotating e
 @dataclass(frozen=True)
 class RotorEquations:
     """Linearized rotor equations in one frame: mass (n, n), damping [C0, C1],
-    stiffness [K0, K1, K2] as powers of the spin speed Omega (rad/s); coordinate names."""
+    stiffness [K0, K1, K2] as powers of the spin speed Omega (rad/s); coordinate names;
+    lateral (2, n_s, n): the y and z displacements (m) of every station, in the same
+    frame, per coordinate (read by the whirl classification)."""
 
     frame: str
     mass: np.ndarray
     damping: tuple[np.ndarray, np.ndarray]
     stiffness: tuple[np.ndarray, np.ndarray, np.ndarray]
     coordinate_names: tuple[str, ...]
+    lateral: np.ndarray
 
     def at(self, speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(M, C, K) at spin speed ``speed`` (rad/s)."""
@@ -62,6 +65,8 @@ class RotorModel:
     coordinate_names: tuple[str, ...]
     independent: tuple[tuple[IndependentElement, np.ndarray], ...]
     isotropic: bool
+
+    frames = FRAMES
 
     @property
     def n(self) -> int:
@@ -83,15 +88,18 @@ class RotorModel:
         if frame not in FRAMES:
             raise InputError(f"frame must be one of {FRAMES}, got {frame!r}")
         M, C, K = self._terms(frame, 2.0 * np.pi * np.arange(_ANGLES) / _ANGLES)
-        parts = [M, *C, *K]
-        scale = max(np.abs(a).max() for a in parts)
-        drift = max(np.abs(a - a[0]).max() for a in parts)
-        if drift > 1e-12 * scale:
+        drift = angle_drift([M, *C, *K])
+        if drift > 1e-12:
             raise InputError(
                 f"rotor '{self.name}': its co-rotating equations depend on the spin angle (an anisotropic bearing "
-                f"or seal, relative variation {drift / scale:.2g}); use frame='stationary', where an axisymmetric "
+                f"or seal, relative variation {drift:.2g}); use frame='stationary', where an axisymmetric "
                 "shaft on anisotropic supports is time-invariant, or rheo_linear() for the periodic co-rotating system")
-        return RotorEquations(frame, M[0], (C[0][0], C[1][0]), (K[0][0], K[1][0], K[2][0]), self.coordinate_names)
+        lateral = np.zeros((2, self.stations.size, self.n))
+        k = np.arange(self.stations.size)
+        for c in range(2):                      # y and z of station k: coordinates 4 k and 4 k + 1
+            lateral[c, k, 4 * k + c] = 1.0
+        return RotorEquations(frame, M[0], (C[0][0], C[1][0]), (K[0][0], K[1][0], K[2][0]), self.coordinate_names,
+                              lateral)
 
     def rheo_linear(self, speed: float, samples: int) -> RheoLinear:
         """Co-rotating equations at spin speed (rad/s) sampled at ``samples`` spin angles
@@ -100,6 +108,13 @@ class RotorModel:
         w = float(speed)
         return RheoLinear.from_samples(M, C[0] + w * C[1], K[0] + w * K[1] + w**2 * K[2], np.zeros(M.shape[:2]), w,
                                        coordinate_names=self.coordinate_names)
+
+
+def angle_drift(parts) -> float:
+    """Largest change over the spin angles (leading axis) of the sampled matrices
+    ``parts``, relative to their largest entry: 0 for time-invariant equations."""
+    scale = max(np.abs(a).max() for a in parts)
+    return max(np.abs(a - a[0]).max() for a in parts) / scale if scale > 0 else 0.0
 
 
 def _spin_transfer(n: int, angles: np.ndarray):
@@ -162,19 +177,23 @@ class Rotor:
             x.extend(np.linspace(sec.start, sec.end, sec.elements + 1)[1:])
         return np.array(x)
 
+    def station_index(self, x: np.ndarray, at: float, what: str) -> int:
+        """Index of the station at axial position ``at`` (m) among x (n_s,); ``what``
+        names the part in the error when no station is there."""
+        i = int(np.argmin(np.abs(x - at)))
+        if abs(x[i] - at) > 1e-9 * max(1.0, float(np.ptp(x))):
+            raise InputError(f"rotor '{self.name}': {what} at {at} m is not on a station; stations are at "
+                             f"{np.round(x, 6).tolist()} m (split the shaft so that a station falls there)")
+        return i
+
     def compile(self) -> RotorModel:
         """Element matrices on the station coordinates, with checks (missing stations,
         singular mass matrix)."""
         x = self.stations()
         names = tuple(f"s{i}.{c}" for i in range(x.size) for c in STATION_COORDINATES)
-        scale = max(1.0, float(np.ptp(x)))
 
         def station(at, what):
-            i = int(np.argmin(np.abs(x - at)))
-            if abs(x[i] - at) > 1e-9 * scale:
-                raise InputError(f"rotor '{self.name}': {what} at {at} m is not on a station; stations are at "
-                                 f"{np.round(x, 6).tolist()} m (split the shaft so that a station falls there)")
-            return i
+            return self.station_index(x, at, what)
 
         independent = []
         for sec in self.sections:
