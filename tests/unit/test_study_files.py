@@ -125,7 +125,7 @@ def test_study_result_file_is_not_a_sweep_and_back(tmp_path, capsys):
         (("name = \"f\"", "name = \"F\""), r"parameter.name: 'F' is not set in \[model.parameters\]"),
         (("harmonics = 10", "harmonics = 10\nds_mx = 0.1"), r"unknown key 'ds_mx'; did you mean 'ds_max'\?"),
         (("[continuation]", "[sweep]\nomega = { values = [1.0], unit = \"rad/s\" }\nharmonics = 3\n[continuation]"),
-         r"top level: give either \[sweep\]"),
+         r"top level: give one of \[sweep\] .* not \[sweep\] and \[continuation\]"),
     ],
 )
 def test_bad_study_files_exit_2_naming_table_and_fix(tmp_path, capsys, edit, message):
