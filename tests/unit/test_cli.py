@@ -181,10 +181,14 @@ def test_descending_speeds_get_a_note(project, capsys):
 
 
 def test_warmup_reports_each_step(capsys):
+    from periodyn.engine.warmup import STEPS
+
     assert main(["warmup"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert all(line.startswith(f"warmup [{i}/3] ") and line.endswith(" s") for i, line in enumerate(out[:3], 1))
-    assert out[3].startswith("kernels compiled and cached in")
+    k = len(STEPS)
+    assert k == 5 and all(line.startswith(f"warmup [{i}/{k}] ") and line.endswith(" s")
+                          for i, line in enumerate(out[:k], 1))
+    assert out[k].startswith("kernels compiled and cached in")
 
 
 def test_bench_linearize_runs_without_the_test_extras(tmp_path):

@@ -41,6 +41,22 @@ def _element_models() -> None:
     SpeedSolver(model, 3, method="magnus").solve_many([200.0])
 
 
+def _spatial_models() -> None:
+    from ..analysis import SpeedSolver
+    from ..examples import cardan_shaft
+
+    SpeedSolver(cardan_shaft(samples=32), 6, method="magnus").solve_many([400.0])
+
+
+def _nonlinear_element_models() -> None:
+    import numpy as np
+
+    from ..examples.elliptic_pendulum import elliptic_pendulum_model
+    from ..nonlinear import shooting
+
+    shooting(elliptic_pendulum_model(), 0.8 * np.sqrt(9.81), method="implicit")
+
+
 def _dae() -> None:
     from ..dae import ihb
     from ..examples import rod_pendulum
@@ -52,6 +68,8 @@ def _dae() -> None:
 STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
     ("speed solver (harmonic balance, Hill, Magnus monodromy)", _speed_solver),
     ("element models (kinematics, planar beam/truss/hinge linearization)", _element_models),
+    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", _spatial_models),
+    ("non-linear element models (implicit shooting)", _nonlinear_element_models),
     ("DAE harmonic balance (IHB)", _dae),
 )
 
