@@ -24,7 +24,7 @@ import scipy.sparse.linalg as spla
 from .errors import ConvergenceError, InputError
 from .harmonic.operator import FORMS, AliasingWarning, HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import BlockPattern, from_real_basis, real_form, to_real_basis
-from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum  # noqa: F401 (re-exported)
+from .periodic import PeriodicSolution, output_spectrum
 from .system import RheoLinear
 
 __all__ = ["PeriodicSolution", "periodic_solution", "AliasingWarning", "FORMS", "BalanceStorage", "balance_storage",

@@ -90,7 +90,7 @@ class Derivatives:
 
     def jacobians(self, q, qd, t):
         """q'' (p, n) and D = [dq''/dq, dq''/dq'] (p, n, 2n) at states q, qd (p, n), times t (p,)."""
-        sysm, w, P, a, n, m = self.system, self.omega, self.P, self.a, self.n, self.m
+        sysm, w, P, n, m = self.system, self.omega, self.P, self.n, self.m
         p = q.shape[0]
         Kq, Kv = sysm.force_jacobians(q, qd, t, w, P)
         if m == 0:
