@@ -35,7 +35,7 @@ import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
 from periodyn.continuation import continuation  # noqa: E402
-from periodyn.dae import ihb  # noqa: E402
+from periodyn.nonlinear import ihb  # noqa: E402
 from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
 from periodyn.nonlinear import integrate, steady_state  # noqa: E402
 

@@ -10,9 +10,7 @@ xarray or Dask.
 
 from __future__ import annotations
 
-import importlib
-import sys
-import types
+from ._lazy import lazy_package
 
 __version__ = "0.1.0"
 
@@ -23,7 +21,7 @@ _LAZY = {
     "continuation": "continuation", "load_branch": "continuation", "switch_branch": "continuation",
     "switch_period_doubling": "continuation", "confirm_special_points": "continuation",
     "ConvergenceError": "errors", "InputError": "errors",
-    "DAE": "dae", "ihb": "dae",
+    "DAE": "nonlinear", "ihb": "nonlinear", "PlanarSystem": "model",
     "FloquetExponents": "floquet", "characteristic_exponents": "hill", "hill_exponents": "hill",
     "PointResult": "analysis", "solve_point": "analysis",
     "shooting": "nonlinear", "element_dae": "nonlinear", "element_outputs": "nonlinear",
@@ -37,33 +35,4 @@ _LAZY = {
 }
 _SUBMODULES = ("examples",)
 
-__all__ = sorted([*_LAZY, *_SUBMODULES])
-
-
-def __getattr__(name: str):
-    if name in _LAZY:
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-    elif name in _SUBMODULES:
-        value = importlib.import_module(f".{name}", __name__)
-    else:
-        raise AttributeError(f"module 'periodyn' has no attribute {name!r}")
-    globals()[name] = value  # later look-ups skip this function
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *__all__])
-
-
-class _Package(types.ModuleType):
-    """The package module: importing a submodule named like the function it defines
-    (sweep, transient, continuation) must not replace that function by the submodule;
-    the submodule stays reachable as ``sys.modules["periodyn.<name>"]``."""
-
-    def __setattr__(self, name: str, value) -> None:
-        if _LAZY.get(name) == name and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
+__all__ = lazy_package(__name__, _LAZY, _SUBMODULES)

@@ -7,7 +7,7 @@ a ``periodyn.DAE``)::
     omega = { start = 2.5, stop = 5.0, unit = "rad/s" }   # unit: rad/s, rpm or Hz
     harmonics = 10
     method = "ihb"                # optional: ihb | shooting
-    stability = "magnus"          # optional: a periodyn.dae.linearization method, or false
+    stability = "magnus"          # optional: a periodyn.nonlinear.orbit_linearization method, or false
     subharmonic = 1               # optional: orbit period 2 pi nu / omega
     ds_max = 0.1                  # optional: largest arc-length step
     max_points = 800              # optional: points per branch at most
@@ -70,7 +70,7 @@ class StudySpec(FileSpec):
 
     def build(self):
         """The DAE from [model.parameters]; builder errors become InputError naming the file."""
-        from .dae.model import DAE
+        from .nonlinear.problem import DAE
 
         try:
             system = self.builder(**self.parameters)
@@ -96,7 +96,7 @@ class StudySpec(FileSpec):
 def parse_continuation(check: Checker, table, *, source, name, text, description, example, builder,
                        parameters) -> StudySpec:
     """Validate a [continuation] table (``check`` names the file)."""
-    from .dae.linearization import STABILITY_METHODS
+    from .nonlinear.orbit_linearization import STABILITY_METHODS
 
     c = check.table(table, "[continuation]")
     check.keys(c, "[continuation]", _KEYS, ("omega", "harmonics"))
@@ -290,7 +290,7 @@ def plot_study(branches: dict, title: str = ""):
     unstable, special points marked by type."""
     import matplotlib.pyplot as plt
 
-    from .dae.figures import plot_branch
+    from .plotting import plot_branch
 
     main = branches["frequency"]
     j = int(main.amplitude.max(axis=0).argmax())

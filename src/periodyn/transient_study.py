@@ -103,7 +103,7 @@ def parse_transient(check: Checker, table, *, source, name, text, description, e
 
 def run_transient(spec: TransientSpec, out) -> xr.Dataset:
     """Compute the transient of ``spec`` and write it to ``out`` (atomically) -> Dataset."""
-    from .dae.model import DAE
+    from .nonlinear.problem import DAE
     from .results import package_versions, save
     from .system import OmegaSplitModel
 

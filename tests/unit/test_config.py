@@ -82,7 +82,7 @@ def test_shipped_sweep_files_are_valid():
     for path in files:
         spec = load_sweep_file(path)
         if spec.kind == "continuation":
-            from periodyn.dae.model import DAE
+            from periodyn.nonlinear.problem import DAE
 
             system = spec.build()  # a DAE built from [model.parameters]
             assert isinstance(system, DAE)

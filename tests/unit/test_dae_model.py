@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from periodyn.dae import DAE
+from periodyn.nonlinear import DAE
 from periodyn.errors import InputError
 
 
@@ -22,7 +22,7 @@ def test_constraint_jacobian_derived_by_complex_step_equals_the_analytic_one():
     """Rod pendulum written without constraint_jacobian: Phi_q by the complex step equals the
     analytic Jacobian to round-off, the Hessian term (central differences of it) to 1e-9,
     and IHB gives the same orbit as the builder's analytic kernels."""
-    from periodyn.dae import ihb
+    from periodyn.nonlinear import ihb
     from periodyn.examples.dae_examples import rod_pendulum
 
     def force(q, qd, t, w):

@@ -5,9 +5,9 @@ an orbit needs more, and the solve through the kept fill-reducing ordering."""
 import numpy as np
 import pytest
 
-from periodyn.dae import ihb
-from periodyn.dae.fourier import product_blocks
-from periodyn.dae.ihb import IHBProblem
+from periodyn.nonlinear import ihb
+from periodyn.nonlinear.ihb_fourier import product_blocks
+from periodyn.nonlinear.ihb import IHBProblem
 from periodyn.examples.dae_examples import duffing, rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
 from periodyn.nonlinear.newton import lu_factor
 

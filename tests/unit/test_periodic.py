@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.dae import ihb
+from periodyn.nonlinear import ihb
 from periodyn.examples.dae_examples import inverted_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import shooting
 from periodyn.periodic import PeriodicSolution
@@ -39,7 +39,7 @@ def test_one_type_for_all_methods_with_the_shared_stability_verdict():
     lin = periodyn.periodic_solution(periodyn.examples.pendulum().at(3.0), 6)
     for sol, method in ((a, "ihb"), (b, "shooting"), (lin, "hb")):
         assert type(sol) is PeriodicSolution and sol.method == method
-    assert periodyn.PeriodicSolution is PeriodicSolution and periodyn.dae.PeriodicSolution is PeriodicSolution
+    assert periodyn.PeriodicSolution is PeriodicSolution
     assert isinstance(a.stability, periodyn.FloquetExponents) and isinstance(b.stability, periodyn.FloquetExponents)
     assert a.stable == a.stability.stable and np.array_equal(a.multipliers, a.stability.multipliers)
     assert a.stability.period == a.period and b.stability.period == b.period

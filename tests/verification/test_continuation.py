@@ -5,7 +5,7 @@ import pytest
 from scipy.optimize import fsolve
 
 from periodyn.continuation import continuation, switch_period_doubling
-from periodyn.dae import ihb
+from periodyn.nonlinear import ihb
 from periodyn.examples.dae_examples import duffing, inverted_pendulum, rod_pendulum
 from periodyn.examples.pendulum import pendulum_nonlinear
 from periodyn.nonlinear import shooting

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from periodyn import RheoLinear, characteristic_exponents
-from periodyn.dae import DAE, ihb
-from periodyn.dae.ihb import IHBProblem
+from periodyn.nonlinear import DAE, ihb
+from periodyn.nonlinear.ihb import IHBProblem
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.dae_examples import rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import integrate, shooting, steady_state

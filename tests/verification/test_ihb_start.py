@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from periodyn.continuation import continuation
-from periodyn.dae import ihb
-from periodyn.dae.ihb import IHBProblem
+from periodyn.nonlinear import ihb
+from periodyn.nonlinear.ihb import IHBProblem
 from periodyn.errors import ConvergenceError
 from periodyn.examples import inverted_pendulum
 

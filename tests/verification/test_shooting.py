@@ -4,8 +4,8 @@ integration, multiple vs single shooting, cold starts, angles modulo 2 pi, failu
 import numpy as np
 import pytest
 
-from periodyn.dae import ihb
-from periodyn.dae.ihb import IHBProblem
+from periodyn.nonlinear import ihb
+from periodyn.nonlinear.ihb import IHBProblem
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.dae_examples import duffing, rod_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import shooting

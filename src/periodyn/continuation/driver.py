@@ -12,8 +12,8 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 import scipy.linalg as sla
 
-from ..dae.ihb import IHBProblem, ihb
-from ..dae.linearization import STABILITY_METHODS
+from ..nonlinear.ihb import IHBProblem, ihb
+from ..nonlinear.orbit_linearization import STABILITY_METHODS
 from ..errors import ConvergenceError, InputError
 from ..nonlinear.chord import ChordEquations
 from ..nonlinear.elements import as_dae
@@ -37,7 +37,7 @@ class ContinuationOptions:
     ``palc``); max_points: branch points at most; tol: residual max-norm (default 1e-8 for
     IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
     (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
-    of ``periodyn.dae.linearization.orbit_exponents`` or None (IHB; shooting always has
+    of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
     its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: check
     every special point by direct integration (``confirm_special_points``, its defaults).
     """

@@ -7,8 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..dae.fourier import real_coefficients
-from ..dae.ihb import IHBProblem
+from ..nonlinear.ihb_fourier import real_coefficients
+from ..nonlinear.ihb import IHBProblem
 from ..errors import InputError
 from ..spectra import fourier_coefficients, synthesize
 from ..timedomain import integrate, monodromy_matrix

@@ -58,7 +58,7 @@ def _nonlinear_element_models() -> None:
 
 
 def _dae() -> None:
-    from ..dae import ihb
+    from ..nonlinear import ihb
     from ..examples import rod_pendulum
 
     ihb(rod_pendulum(), 3.6, 3)

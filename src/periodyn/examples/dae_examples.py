@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dae.model import DAE
-from ..dae.rigid2d import PlanarSystem
+from ..nonlinear.problem import DAE
+from ..model.rigid2d import PlanarSystem
 
 __all__ = ["rod_pendulum", "inverted_pendulum", "slider_rod_pendulum", "slider_chain_pendulum", "duffing"]
 

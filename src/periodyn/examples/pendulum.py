@@ -52,7 +52,7 @@ def pendulum_nonlinear(*, length: float = 1.0, radius: float = 0.5, eccentricity
         phi'' + 2 zeta w0 (phi' + w) + w0^2 sin(phi) + rho w^2 [sin(phi - w t) + e sin(phi + w t)] = 0,
 
     for shooting / continuation against the linearized eq. (29) (``pendulum``)."""
-    from ..dae.model import DAE
+    from ..nonlinear.problem import DAE
 
     w0 = np.sqrt(g / length)
     rho = radius / length

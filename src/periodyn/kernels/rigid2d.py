@@ -1,4 +1,4 @@
-"""Jitted kernels for planar rigid multibody DAEs (``periodyn.dae.rigid2d`` builder).
+"""Jitted kernels for planar rigid multibody DAEs (``periodyn.model.rigid2d`` builder).
 
 Convention (as for every kernel module): float64 arrays, int64 index arrays, integer
 loop bounds, no Python objects, caller-allocated ``out`` arrays that the kernel fills

@@ -156,7 +156,7 @@ def as_dae(system, caller: str):
     ``periodyn.DAE`` as it is, an element model (``periodyn.model.Model``, compiled here,
     or ``CompiledModel``) as its full non-linear equations :func:`element_dae`. Anything
     else is refused (InputError naming what to pass)."""
-    from ..dae.model import DAE
+    from .problem import DAE
     from ..model import CompiledModel, Model
 
     if isinstance(system, DAE):

@@ -19,7 +19,7 @@ __all__ = ["ode", "rheo_linear_dae"]
 def ode(n: int, force, force_jacobians, coordinate_names, name: str):
     """``periodyn.DAE`` of the ODE q'' = force(q, qd, t, omega, params) (unit mass, m = 0)
     from batch callables ``force`` -> (p, n) and ``force_jacobians`` -> two (p, n, n)."""
-    from ..dae.model import DAE
+    from .problem import DAE
 
     eye = np.eye(n)
 

@@ -1,4 +1,4 @@
-"""Planar rigid-body builder: bodies, joints, springs, loads -> :class:`~periodyn.dae.model.DAE`.
+"""Planar rigid-body builder: bodies, joints, springs, loads -> :class:`~periodyn.nonlinear.problem.DAE`.
 
 Bodies have centre-of-mass coordinates (x, y, phi) in m, m, rad, or (x, y) for a point
 mass (a slider block). Gravity acts along -y. Everything the solvers need (M, f, f_q,
@@ -15,7 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..kernels import rigid2d as K
-from .model import DAE
+from ..nonlinear.problem import DAE
 
 __all__ = ["PlanarSystem"]
 

@@ -1,6 +1,6 @@
 """EGA-IHB: harmonic balance of ``M q'' + Phi_q^T lambda = f``, ``Phi = 0`` (Ju, Fan & Zhu 2021).
 
-Unknowns X: real Fourier coefficients (``periodyn.dae.fourier`` layout) of the n
+Unknowns X: real Fourier coefficients (``periodyn.nonlinear.ihb_fourier`` layout) of the n
 coordinates and the m multipliers, coordinate-major: ``X[i*(2H+1) + r]``; size
 ``(n + m)(2H+1)``. Residual: Galerkin coefficients of
 ``r1 = M(q) q'' + Phi_q^T lambda - f(q, q', t)`` (n rows, N or N m) and ``r2 = Phi(q, t)``
@@ -10,7 +10,7 @@ samples (pyFFTW) -> per-sample evaluation -> FFT.
 Newton Jacobian (no finite differences): per-sample derivative matrices
 ``K = -df/dq + sum lam_k Phi_k,qq (+ d(M a)/dq)``, ``C = -df/dq'``, ``M``, ``Phi_q`` are
 turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``) on a sparsity
-pattern fixed at the first evaluation (``periodyn.dae.jacobian``: dense blocks only for
+pattern fixed at the first evaluation (``periodyn.nonlinear.ihb_jacobian``: dense blocks only for
 entries that vary along the orbit, c I / c D / c D^2 for constant ones, a fill-reducing
 ordering chosen once), factorised by SuperLU.
 
@@ -29,14 +29,14 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..nonlinear.elements import as_dae
-from ..nonlinear.newton import newton
+from .elements import as_dae
+from .newton import newton
 from ..periodic import PeriodicSolution
 from ..spectra import min_samples, sample_angles
-from .fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
-from .jacobian import JacobianPattern, block_needs
-from .linearization import linearize_orbit, orbit_exponents
-from .model import DAE
+from .ihb_fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
+from .ihb_jacobian import JacobianPattern, block_needs
+from .orbit_linearization import linearize_orbit, orbit_exponents
+from .problem import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
 
@@ -161,7 +161,7 @@ class IHBProblem:
         return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
 
     def _assemble(self, Kt, Ct, M, Pq, omega):
-        """Sparse Jacobian on the problem's fixed pattern (``periodyn.dae.jacobian``), rebuilt
+        """Sparse Jacobian on the problem's fixed pattern (``periodyn.nonlinear.ihb_jacobian``), rebuilt
         (larger) only when an evaluation needs a block or a harmonic band outside it."""
         if Pq is None:
             Pq = np.zeros((Kt.shape[0], 0, self.n))
@@ -174,7 +174,7 @@ class IHBProblem:
 
     # ------------------------------------------------------------------ results
     def linearization(self, X, omega, params=None):
-        """The orbit's perturbation equations (``periodyn.dae.linearization.OrbitLinearization``)."""
+        """The orbit's perturbation equations (``periodyn.nonlinear.orbit_linearization.OrbitLinearization``)."""
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
@@ -211,7 +211,7 @@ def ihb(system, omega: float, harmonics: int = 5, *, samples: int | None = None,
     PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
     (``system.q0``); subharmonic: nu (orbit period nu 2 pi / omega); tol: residual
     max-norm (N, N m, m, rad); stability: a method of
-    ``periodyn.dae.linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
+    ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
     "sparse") or None. Raises ConvergenceError when Newton fails.
     """
     system = as_dae(system, "ihb")

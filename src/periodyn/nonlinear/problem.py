@@ -3,7 +3,7 @@
 :class:`DAE` stores *batch* evaluators: every method takes a leading batch axis
 (time samples of one orbit, or trajectories integrated together) and returns arrays with
 that axis first. Users build one from per-point callables with ``DAE(...)``; the planar
-rigid-body builder (``periodyn.dae.rigid2d``) supplies jitted batch kernels through
+rigid-body builder (``periodyn.model.rigid2d``) supplies jitted batch kernels through
 :meth:`DAE.from_batch`.
 
 Units: SI (m, rad, kg, N, N m, s); omega in rad/s.

@@ -1,12 +1,12 @@
 """The IHB Newton Jacobian on a fixed sparsity pattern: built once, filled per Newton step.
 
-The Jacobian of the harmonic-balance residual (``periodyn.dae.ihb``) is a sparse matrix of
+The Jacobian of the harmonic-balance residual (``periodyn.nonlinear.ihb``) is a sparse matrix of
 (2H+1)x(2H+1) blocks, one per pair of coordinates (or coordinate and multiplier) whose sampled
 derivative matrices are non-zero somewhere on the orbit:
 
     J_qq[i, j] = G(K_ij) + G(C_ij) D + G(M_ij) D^2,    J_q,lam[j, k] = J_lam,q[k, j] = G(Phi_q,kj)
 
-with G the product blocks of ``periodyn.dae.fourier`` and D = Omega d/dtau in the real layout.
+with G the product blocks of ``periodyn.nonlinear.ihb_fourier`` and D = Omega d/dtau in the real layout.
 G(A)[k, l] (k, l the harmonic numbers of row and column) is made of A_(k-l) and A_(k+l), so a
 sampled entry whose spectrum is negligible beyond harmonic r (|A_d| <= 1e-13 max|A| for d > r,
 its *reach*) has a block inside the band |k - l| <= r. A constant entry has G = c I exactly: its
@@ -34,7 +34,7 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from ..spectra import fourier_coefficients
-from .fourier import spectrum_blocks
+from .ihb_fourier import spectrum_blocks
 
 __all__ = ["entry_classes", "JacobianPattern", "FillOrdering", "block_needs"]
 
