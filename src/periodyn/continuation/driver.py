@@ -27,6 +27,7 @@ from .palc import Arc, first_point, trace
 __all__ = ["ContinuationOptions", "continuation"]
 
 _AT_START = 1e-8  # |test function| at the start point below which the start is the special point
+_REUSE_SIZE = 1000  # IHB unknowns from which the corrector reuses factorizations (palc, reuse mode)
 
 
 @dataclass(frozen=True)
@@ -128,8 +129,9 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
     options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
     fields. progress: None or a callable (points so far, parameter value (omega for a
-    frequency response) of the newest point). Every point carries its residual and Newton iterations; non-converged points
-    are never recorded.
+    frequency response) of the newest point). Every point carries its residual and Newton iterations (chord
+    updates for IHB problems of ``_REUSE_SIZE`` unknowns or more, see ``palc``); non-converged points are never
+    recorded.
     """
     opts = replace(options or ContinuationOptions(), **_known(option_values))
     system = as_dae(system, "continuation")
@@ -156,7 +158,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
-              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None)
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
+              reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))
@@ -239,7 +242,7 @@ def _refine_fold(arc, a, b):
 
     def g(s, *_):
         try:
-            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True)
+            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True, start=a)
         except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
             return None
         return pt.t[arc.N], pt
