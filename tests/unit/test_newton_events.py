@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from periodyn.continuation.events import branch_test, classify, crossing_test, illinois
+from periodyn.continuation.events import branch_test, classify, crossing_test, illinois, same_point
 from periodyn.errors import ConvergenceError
 from periodyn.nonlinear.newton import least_squares_factor, newton
 
@@ -78,3 +78,26 @@ def test_crossing_test_follows_the_crossing_kind_not_the_largest_multiplier():
     assert crossing_test(a, "neimark-sacker") < 0 < crossing_test(b, "neimark-sacker")
     assert abs(crossing_test(a, "neimark-sacker") + 0.1) < 1e-15
     assert [e[0] for e in classify(1.0, 1.0, a, b)] == ["neimark-sacker"]
+
+
+@pytest.mark.parametrize("touch, one", [(4e-10, True), (1e-6, False)])
+def test_roots_either_side_of_a_shared_point_are_one_when_it_is_a_root_to_the_tolerance(touch, one):
+    """A test function that touches zero at the branch point b shared by two brackets,
+    g = touch - k (p - b)^2, has a root in each; refined to |g| < ftol they are one point
+    exactly when the touch itself is within ftol (the refinement cannot tell them apart)."""
+    ftol, k, a, b, c = 1e-9, 0.4, 6.30, 6.353, 6.41
+
+    def g(p):
+        return touch - k * (p - b) ** 2
+
+    def root(lo, hi):
+        s, p = illinois(lambda s, *_: (g(lo + s * (hi - lo)), lo + s * (hi - lo)), (0.0, g(lo), lo),
+                        (1.0, g(hi), hi), ftol=ftol, stol=1e-14)
+        return p
+
+    p1, p2 = root(a, b), root(b, c)
+    assert abs(g(p1)) < ftol and abs(g(p2)) < ftol and p1 < b < p2
+    assert same_point(p1, g(p1), p2, g(p2), b, g(b), ftol) is one
+    assert same_point(p2, g(p2), p1, g(p1), b, g(b), ftol) is one  # symmetric
+    # two crossings well apart with a steep test function are never merged
+    assert not same_point(6.30, 0.0, 6.41, 0.0, b, 0.05, ftol)

@@ -21,12 +21,13 @@ from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .confirm import confirm_special_points
-from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind
+from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
 from .palc import Arc, first_point, trace
 
 __all__ = ["ContinuationOptions", "continuation"]
 
 _AT_START = 1e-8  # |test function| at the start point below which the start is the special point
+_FTOL = {"fold": 1e-10, "crossing": 1e-9}  # |test function| at which a refinement stops (dp/ds; |mu| - 1 or |mu - 1|)
 _REUSE_SIZE = 1000  # IHB unknowns from which the corrector reuses factorizations (palc, reuse mode)
 
 
@@ -176,7 +177,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         sols.append(record(item))
         if progress is not None:
             progress(len(pts), item.p)
-        specials += _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2)
+        for sp in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+            _add_special(specials, sp, [pt.p for pt in pts])
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
                                                            if f.name not in ("tol", "samples")})
@@ -191,6 +193,22 @@ def _known(values: dict) -> dict:
     if unknown:
         raise InputError(f"unknown continuation option(s) {sorted(unknown)}; options are {sorted(names)}")
     return values
+
+
+def _add_special(specials: list, sp: SpecialPoint, p: list) -> None:
+    """Append sp to specials, unless a point of its type refined in the adjacent bracket
+    before it is the same point (``events.same_point``); then the one with the smaller
+    |test function| stays. p: parameter values of the branch points so far (p[k] is the
+    point the two brackets share)."""
+    k = sp.index
+    for i, q in enumerate(specials):
+        if (q.type == sp.type and q.index == k - 1 and q.test_values is not None and sp.test_values is not None
+                and same_point(q.parameter, q.test_values[2], sp.parameter, sp.test_values[2], p[k], sp.test_values[0],
+                               _FTOL["fold" if sp.type == "fold" else "crossing"])):
+            if abs(sp.test_values[2]) < abs(q.test_values[2]):
+                specials[i] = sp
+            return
+    specials.append(sp)
 
 
 def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
@@ -250,7 +268,7 @@ def _refine_fold(arc, a, b):
     end = g(1.0)
     if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
         return None
-    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=1e-10, stol=1e-12)
+    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=_FTOL["fold"], stol=1e-12)
     if res is None:
         return None
     pt = res[1]
@@ -276,7 +294,7 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
         return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
     stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
     res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
-                   ftol=1e-9, stol=stol, max_iter=30)
+                   ftol=_FTOL["crossing"], stol=stol, max_iter=30)
     if res is None:
         return None
     s, (X, rn) = res
