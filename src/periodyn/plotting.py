@@ -127,7 +127,7 @@ def save_figure(fig, path) -> Path:
     return path
 
 
-_MARK = {"fold": ("o", "k"), "period-doubling": ("s", "tab:red"), "neimark-sacker": ("^", "tab:purple")}
+_MARK = {"fold": ("o", "k"), "branch-point": ("D", "tab:green"), "period-doubling": ("s", "tab:red"), "neimark-sacker": ("^", "tab:purple")}
 
 
 def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:blue", x=None) -> None:
