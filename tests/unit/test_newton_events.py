@@ -101,3 +101,27 @@ def test_roots_either_side_of_a_shared_point_are_one_when_it_is_a_root_to_the_to
     assert same_point(p2, g(p2), p1, g(p1), b, g(b), ftol) is one  # symmetric
     # two crossings well apart with a steep test function are never merged
     assert not same_point(6.30, 0.0, 6.41, 0.0, b, 0.05, ftol)
+
+
+def test_the_driver_merges_one_point_seen_from_adjacent_brackets_and_keeps_the_better_refined():
+    """Branch points refined either side of branch point 5 (p = 6.353), where the test
+    function is 4e-10: one point (the one with the smaller |test| stays); another type, a
+    bracket further on, or a point without refinement is never merged."""
+    from periodyn.continuation.branch import SpecialPoint
+    from periodyn.continuation.driver import _add_special
+
+    p = [6.2, 6.25, 6.3, 6.32, 6.34, 6.353, 6.37, 6.4]
+
+    def point(typ, k, where, tests):
+        return SpecialPoint(typ, k, where, where, test_values=None if tests is None else np.array(tests))
+
+    specials = []
+    first = point("branch-point", 4, 6.35297, [-0.2, 4e-10, 3e-10])
+    second = point("branch-point", 5, 6.35303, [4e-10, -0.3, -1e-10])
+    _add_special(specials, first, p)
+    _add_special(specials, point("neimark-sacker", 5, 6.35301, [0.01, -0.02, 1e-13]), p)
+    _add_special(specials, second, p)
+    assert [(q.type, q.omega) for q in specials] == [("branch-point", 6.35303), ("neimark-sacker", 6.35301)]
+    _add_special(specials, point("branch-point", 6, 6.3531, [-0.3, 0.2, 0.0]), p)  # shared point 6.37: g = -0.3
+    _add_special(specials, point("neimark-sacker", 6, 6.35302, None), p)  # not refined: kept as it is
+    assert len(specials) == 4
