@@ -115,13 +115,39 @@ def test_the_driver_merges_one_point_seen_from_adjacent_brackets_and_keeps_the_b
     def point(typ, k, where, tests):
         return SpecialPoint(typ, k, where, where, test_values=None if tests is None else np.array(tests))
 
-    specials = []
+    specials, loose = [], set()
     first = point("branch-point", 4, 6.35297, [-0.2, 4e-10, 3e-10])
     second = point("branch-point", 5, 6.35303, [4e-10, -0.3, -1e-10])
-    _add_special(specials, first, p)
-    _add_special(specials, point("neimark-sacker", 5, 6.35301, [0.01, -0.02, 1e-13]), p)
-    _add_special(specials, second, p)
+    _add_special(specials, first, p, False, loose)
+    _add_special(specials, point("neimark-sacker", 5, 6.35301, [0.01, -0.02, 1e-13]), p, False, loose)
+    _add_special(specials, second, p, False, loose)
     assert [(q.type, q.omega) for q in specials] == [("branch-point", 6.35303), ("neimark-sacker", 6.35301)]
-    _add_special(specials, point("branch-point", 6, 6.3531, [-0.3, 0.2, 0.0]), p)  # shared point 6.37: g = -0.3
-    _add_special(specials, point("neimark-sacker", 6, 6.35302, None), p)  # not refined: kept as it is
-    assert len(specials) == 4
+    _add_special(specials, point("branch-point", 6, 6.3531, [-0.3, 0.2, 0.0]), p, False, loose)  # g(6.37) = -0.3
+    _add_special(specials, point("neimark-sacker", 6, 6.35302, None), p, False, loose)  # refinement failed
+    assert len(specials) == 4 and not loose
+
+
+def test_a_count_change_without_a_sign_change_next_to_a_refined_point_is_that_point():
+    """The chain's case (branch points at 6.35301 refined and 6.35298 interpolated): the
+    multiplier count changes in two adjacent brackets, the test function only in the first.
+    The second is the first seen again, in either order; a failed refinement of a real sign
+    change is kept."""
+    from periodyn.continuation.branch import SpecialPoint
+    from periodyn.continuation.driver import _add_special
+
+    p = [6.344, 6.350035, 6.353038, 6.3560]
+    refined = SpecialPoint("branch-point", 1, 6.353013, 6.353013, test_values=np.array([0.13, -2.7e-3, 4e-10]))
+    seen_again = SpecialPoint("branch-point", 2, 6.352978, 6.352978)
+    specials, loose = [], set()
+    _add_special(specials, refined, p, False, loose)
+    _add_special(specials, seen_again, p, True, loose)
+    assert specials == [refined]
+    specials, loose = [], set()
+    early = SpecialPoint("branch-point", 0, 6.3490, 6.3490)
+    _add_special(specials, early, p, True, loose)
+    _add_special(specials, refined, p, False, loose)
+    assert specials == [refined] and not loose
+    specials, loose = [], set()
+    _add_special(specials, refined, p, False, loose)
+    _add_special(specials, seen_again, p, False, loose)  # a sign change whose refinement failed: its own point
+    assert specials == [refined, seen_again]

@@ -168,7 +168,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
     sols = [record(pts[0])]
-    specials, status = [], ""
+    specials, status, loose = [], "", set()
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
         if isinstance(item, str):
             status = item
@@ -177,8 +177,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         sols.append(record(item))
         if progress is not None:
             progress(len(pts), item.p)
-        for sp in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
-            _add_special(specials, sp, [pt.p for pt in pts])
+        for sp, unbracketed in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+            _add_special(specials, sp, [pt.p for pt in pts], unbracketed, loose)
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
                                                            if f.name not in ("tol", "samples")})
@@ -195,24 +195,38 @@ def _known(values: dict) -> dict:
     return values
 
 
-def _add_special(specials: list, sp: SpecialPoint, p: list) -> None:
-    """Append sp to specials, unless a point of its type refined in the adjacent bracket
-    before it is the same point (``events.same_point``); then the one with the smaller
-    |test function| stays. p: parameter values of the branch points so far (p[k] is the
-    point the two brackets share)."""
+def _add_special(specials: list, sp: SpecialPoint, p: list, unbracketed: bool, loose: set) -> None:
+    """Append sp to specials unless a point of its type in the adjacent bracket before it
+    is the same point: both refined and one to the refinement tolerance
+    (``events.same_point``; the one with the smaller |test function| stays), or one refined
+    and the other ``unbracketed`` (the multiplier count changed in its bracket but its test
+    function did not change sign: the count saw the crossing refined next door; the refined
+    one stays). p: parameter values of the branch points so far (p[k] is the point the two
+    brackets share); loose: ids of the unbracketed points in specials (updated)."""
     k = sp.index
     for i, q in enumerate(specials):
-        if (q.type == sp.type and q.index == k - 1 and q.test_values is not None and sp.test_values is not None
-                and same_point(q.parameter, q.test_values[2], sp.parameter, sp.test_values[2], p[k], sp.test_values[0],
-                               _FTOL["fold" if sp.type == "fold" else "crossing"])):
+        if q.type != sp.type or q.index != k - 1:
+            continue
+        refined = q.test_values is not None, sp.test_values is not None
+        if refined == (True, False) and unbracketed:
+            return
+        if refined == (False, True) and id(q) in loose:
+            loose.discard(id(q))
+            specials[i] = sp
+            return
+        if all(refined) and same_point(q.parameter, q.test_values[2], sp.parameter, sp.test_values[2], p[k],
+                                       sp.test_values[0], _FTOL["fold" if sp.type == "fold" else "crossing"]):
             if abs(sp.test_values[2]) < abs(q.test_values[2]):
                 specials[i] = sp
             return
+    if unbracketed:
+        loose.add(id(sp))
     specials.append(sp)
 
 
-def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
-    """Classified and refined special points between accepted points a and b (index k)."""
+def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialPoint, bool]]:
+    """Classified and refined special points between accepted points a and b (index k),
+    each with whether its test function failed to change sign over the bracket."""
     out = []
     for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
         if typ == "fold":
@@ -226,7 +240,8 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
         if found is None:  # refinement failed: linear interpolation, no orbit
             p = a.p + s_lin * (b.p - a.p)
             amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
-            out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None))
+            unbracketed = typ != "fold" and not np.sign(bracket[0]) * np.sign(bracket[1]) < 0
+            out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed))
             continue
         X, p, rn, tests = found
         exps = disc.exponents(X, *at(p))
@@ -236,8 +251,8 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
             crit = complex(mu[int(np.argmin(np.abs(mu - 1)))]) if typ == "branch-point" else nearest_of_kind(
                 mu, KINDS[typ])
         vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
-        out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
-                                np.asarray(tests, float)))
+        out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
+                                 np.asarray(tests, float)), False))
     return out
 
 
