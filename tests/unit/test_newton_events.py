@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from periodyn.continuation.events import branch_test, classify, crossing_test, illinois
+from periodyn.continuation.events import branch_test, classify, crossing_test, illinois, same_point
 from periodyn.errors import ConvergenceError
 from periodyn.nonlinear.newton import least_squares_factor, newton
 
@@ -78,3 +78,76 @@ def test_crossing_test_follows_the_crossing_kind_not_the_largest_multiplier():
     assert crossing_test(a, "neimark-sacker") < 0 < crossing_test(b, "neimark-sacker")
     assert abs(crossing_test(a, "neimark-sacker") + 0.1) < 1e-15
     assert [e[0] for e in classify(1.0, 1.0, a, b)] == ["neimark-sacker"]
+
+
+@pytest.mark.parametrize("touch, one", [(4e-10, True), (1e-6, False)])
+def test_roots_either_side_of_a_shared_point_are_one_when_it_is_a_root_to_the_tolerance(touch, one):
+    """A test function that touches zero at the branch point b shared by two brackets,
+    g = touch - k (p - b)^2, has a root in each; refined to |g| < ftol they are one point
+    exactly when the touch itself is within ftol (the refinement cannot tell them apart)."""
+    ftol, k, a, b, c = 1e-9, 0.4, 6.30, 6.353, 6.41
+
+    def g(p):
+        return touch - k * (p - b) ** 2
+
+    def root(lo, hi):
+        s, p = illinois(lambda s, *_: (g(lo + s * (hi - lo)), lo + s * (hi - lo)), (0.0, g(lo), lo),
+                        (1.0, g(hi), hi), ftol=ftol, stol=1e-14)
+        return p
+
+    p1, p2 = root(a, b), root(b, c)
+    assert abs(g(p1)) < ftol and abs(g(p2)) < ftol and p1 < b < p2
+    assert same_point(p1, g(p1), p2, g(p2), b, g(b), ftol) is one
+    assert same_point(p2, g(p2), p1, g(p1), b, g(b), ftol) is one  # symmetric
+    # two crossings well apart with a steep test function are never merged
+    assert not same_point(6.30, 0.0, 6.41, 0.0, b, 0.05, ftol)
+
+
+def test_the_driver_merges_one_point_seen_from_adjacent_brackets_and_keeps_the_better_refined():
+    """Branch points refined either side of branch point 5 (p = 6.353), where the test
+    function is 4e-10: one point (the one with the smaller |test| stays); another type, a
+    bracket further on, or a point without refinement is never merged."""
+    from periodyn.continuation.branch import SpecialPoint
+    from periodyn.continuation.driver import _add_special
+
+    p = [6.2, 6.25, 6.3, 6.32, 6.34, 6.353, 6.37, 6.4]
+
+    def point(typ, k, where, tests):
+        return SpecialPoint(typ, k, where, where, test_values=None if tests is None else np.array(tests))
+
+    specials, loose = [], set()
+    first = point("branch-point", 4, 6.35297, [-0.2, 4e-10, 3e-10])
+    second = point("branch-point", 5, 6.35303, [4e-10, -0.3, -1e-10])
+    _add_special(specials, first, p, False, loose)
+    _add_special(specials, point("neimark-sacker", 5, 6.35301, [0.01, -0.02, 1e-13]), p, False, loose)
+    _add_special(specials, second, p, False, loose)
+    assert [(q.type, q.omega) for q in specials] == [("branch-point", 6.35303), ("neimark-sacker", 6.35301)]
+    _add_special(specials, point("branch-point", 6, 6.3531, [-0.3, 0.2, 0.0]), p, False, loose)  # g(6.37) = -0.3
+    _add_special(specials, point("neimark-sacker", 6, 6.35302, None), p, False, loose)  # refinement failed
+    assert len(specials) == 4 and not loose
+
+
+def test_a_count_change_without_a_sign_change_next_to_a_refined_point_is_that_point():
+    """The chain's case (branch points at 6.35301 refined and 6.35298 interpolated): the
+    multiplier count changes in two adjacent brackets, the test function only in the first.
+    The second is the first seen again, in either order; a failed refinement of a real sign
+    change is kept."""
+    from periodyn.continuation.branch import SpecialPoint
+    from periodyn.continuation.driver import _add_special
+
+    p = [6.344, 6.350035, 6.353038, 6.3560]
+    refined = SpecialPoint("branch-point", 1, 6.353013, 6.353013, test_values=np.array([0.13, -2.7e-3, 4e-10]))
+    seen_again = SpecialPoint("branch-point", 2, 6.352978, 6.352978)
+    specials, loose = [], set()
+    _add_special(specials, refined, p, False, loose)
+    _add_special(specials, seen_again, p, True, loose)
+    assert specials == [refined]
+    specials, loose = [], set()
+    early = SpecialPoint("branch-point", 0, 6.3490, 6.3490)
+    _add_special(specials, early, p, True, loose)
+    _add_special(specials, refined, p, False, loose)
+    assert specials == [refined] and not loose
+    specials, loose = [], set()
+    _add_special(specials, refined, p, False, loose)
+    _add_special(specials, seen_again, p, False, loose)  # a sign change whose refinement failed: its own point
+    assert specials == [refined, seen_again]

@@ -21,12 +21,14 @@ from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .confirm import confirm_special_points
-from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind
+from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
 from .palc import Arc, first_point, trace
 
 __all__ = ["ContinuationOptions", "continuation"]
 
 _AT_START = 1e-8  # |test function| at the start point below which the start is the special point
+_FTOL = {"fold": 1e-10, "crossing": 1e-9}  # |test function| at which a refinement stops (dp/ds; |mu| - 1 or |mu - 1|)
+_REUSE_SIZE = 1000  # IHB unknowns from which the corrector reuses factorizations (palc, reuse mode)
 
 
 @dataclass(frozen=True)
@@ -128,8 +130,9 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
     options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
     fields. progress: None or a callable (points so far, parameter value (omega for a
-    frequency response) of the newest point). Every point carries its residual and Newton iterations; non-converged points
-    are never recorded.
+    frequency response) of the newest point). Every point carries its residual and Newton iterations (chord
+    updates for IHB problems of ``_REUSE_SIZE`` unknowns or more, see ``palc``); non-converged points are never
+    recorded.
     """
     opts = replace(options or ContinuationOptions(), **_known(option_values))
     system = as_dae(system, "continuation")
@@ -156,7 +159,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
-              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None)
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
+              reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
 
     def record(pt):
         exps = disc.exponents(pt.X, *at(pt.p))
@@ -164,7 +168,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
     sols = [record(pts[0])]
-    specials, status = [], ""
+    specials, status, loose = [], "", set()
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
         if isinstance(item, str):
             status = item
@@ -173,7 +177,8 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         sols.append(record(item))
         if progress is not None:
             progress(len(pts), item.p)
-        specials += _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2)
+        for sp, unbracketed in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+            _add_special(specials, sp, [pt.p for pt in pts], unbracketed, loose)
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
                                                            if f.name not in ("tol", "samples")})
@@ -190,8 +195,38 @@ def _known(values: dict) -> dict:
     return values
 
 
-def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
-    """Classified and refined special points between accepted points a and b (index k)."""
+def _add_special(specials: list, sp: SpecialPoint, p: list, unbracketed: bool, loose: set) -> None:
+    """Append sp to specials unless a point of its type in the adjacent bracket before it
+    is the same point: both refined and one to the refinement tolerance
+    (``events.same_point``; the one with the smaller |test function| stays), or one refined
+    and the other ``unbracketed`` (the multiplier count changed in its bracket but its test
+    function did not change sign: the count saw the crossing refined next door; the refined
+    one stays). p: parameter values of the branch points so far (p[k] is the point the two
+    brackets share); loose: ids of the unbracketed points in specials (updated)."""
+    k = sp.index
+    for i, q in enumerate(specials):
+        if q.type != sp.type or q.index != k - 1:
+            continue
+        refined = q.test_values is not None, sp.test_values is not None
+        if refined == (True, False) and unbracketed:
+            return
+        if refined == (False, True) and id(q) in loose:
+            loose.discard(id(q))
+            specials[i] = sp
+            return
+        if all(refined) and same_point(q.parameter, q.test_values[2], sp.parameter, sp.test_values[2], p[k],
+                                       sp.test_values[0], _FTOL["fold" if sp.type == "fold" else "crossing"]):
+            if abs(sp.test_values[2]) < abs(q.test_values[2]):
+                specials[i] = sp
+            return
+    if unbracketed:
+        loose.add(id(sp))
+    specials.append(sp)
+
+
+def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialPoint, bool]]:
+    """Classified and refined special points between accepted points a and b (index k),
+    each with whether its test function failed to change sign over the bracket."""
     out = []
     for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
         if typ == "fold":
@@ -205,7 +240,8 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
         if found is None:  # refinement failed: linear interpolation, no orbit
             p = a.p + s_lin * (b.p - a.p)
             amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
-            out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None))
+            unbracketed = typ != "fold" and not np.sign(bracket[0]) * np.sign(bracket[1]) < 0
+            out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed))
             continue
         X, p, rn, tests = found
         exps = disc.exponents(X, *at(p))
@@ -215,8 +251,8 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[SpecialPoint]:
             crit = complex(mu[int(np.argmin(np.abs(mu - 1)))]) if typ == "branch-point" else nearest_of_kind(
                 mu, KINDS[typ])
         vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
-        out.append(SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
-                                np.asarray(tests, float)))
+        out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
+                                 np.asarray(tests, float)), False))
     return out
 
 
@@ -239,7 +275,7 @@ def _refine_fold(arc, a, b):
 
     def g(s, *_):
         try:
-            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True)
+            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True, start=a)
         except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
             return None
         return pt.t[arc.N], pt
@@ -247,7 +283,7 @@ def _refine_fold(arc, a, b):
     end = g(1.0)
     if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
         return None
-    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=1e-10, stol=1e-12)
+    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=_FTOL["fold"], stol=1e-12)
     if res is None:
         return None
     pt = res[1]
@@ -273,7 +309,7 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
         return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
     stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
     res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
-                   ftol=1e-9, stol=stol, max_iter=30)
+                   ftol=_FTOL["crossing"], stol=stol, max_iter=30)
     if res is None:
         return None
     s, (X, rn) = res

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["KINDS", "branch_test", "classify", "crossing_test", "illinois", "of_kind"]
+__all__ = ["KINDS", "branch_test", "classify", "crossing_test", "illinois", "of_kind", "same_point"]
 
 KINDS = {"fold": "real > 0", "branch-point": "real > 0", "period-doubling": "real < 0", "neimark-sacker": "complex"}
 _IMAG = 1e-6  # relative imaginary part below which a multiplier counts as real
@@ -136,3 +136,21 @@ def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_i
                 a = (sa, 0.5 * fa, da)
             side = 1
     return s, data
+
+
+def same_point(p1: float, g1: float, p2: float, g2: float, p_shared: float, g_shared: float, ftol: float) -> bool:
+    """Whether roots p1, p2 of one test function, refined in two adjacent brackets (test
+    values g1, g2 there), are one point.
+
+    p_shared, g_shared: the branch point between the brackets and its test value; ftol: the
+    |test| at which a refinement stops. Each root is located to ftol / slope, the slope
+    taken by the secant from it to the shared point, plus 1e-12 relative (the refinement's
+    shortest bracket); the roots are one when they lie within the sum of both tolerances.
+    That holds when the test function at the shared point is itself within about ftol of
+    zero: the two sign changes are one touch of zero, seen from either side.
+    """
+    def tolerance(p, g):
+        slope = abs(g_shared - g) / max(abs(p_shared - p), 1e-300)
+        return (ftol / slope if slope > 0 else np.inf) + 1e-12 * max(1.0, abs(p))
+
+    return abs(p1 - p2) <= tolerance(p1, g1) + tolerance(p2, g2)

@@ -152,11 +152,11 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
-        Kt = -Kf
+        Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
-            Kt = Kt + sysm.constraint_hessian(q, lam, t, omega, P)
+            Kt += sysm.constraint_hessian(q, lam, t, omega, P)
         if sysm.mass_jacobian is not None:
-            Kt = Kt + sysm.mass_jacobian(q, qdd)
+            Kt += sysm.mass_jacobian(q, qdd)
         Ct = -Cf
         return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
 
