@@ -5,23 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["implicit_safe_speed", "solve_at_speeds"]
-
-
-def implicit_safe_speed(omega: float, steps: int | None = None) -> float:
-    """omega (rad/s) lowered by the fewest ulps (relative change ~1e-16) for which the
-    implicit one-period map on ``steps`` (default ``STEPS``) and steps / 2 steps ends its
-    last step at an input angle omega t <= 2 pi in floating point. Work-around: the
-    rotation mode of a spatial hinge is 2 atan2(..) in (-2 pi, 2 pi]
-    (``kernels.spatial_joints.hinge``), so an input angle one rounding error above 2 pi
-    has no configuration and the map fails at its last step."""
-    from .nonlinear.implicit import STEPS
-
-    n = STEPS if steps is None else int(steps)
-    w = float(omega)
-    while any(w * (k * (2 * np.pi / w / k)) > 2 * np.pi for k in (n, n // 2)):
-        w = float(np.nextafter(w, 0.0))
-    return w
+__all__ = ["solve_at_speeds"]
 
 
 def solve_at_speeds(system, omega, harmonics: int, method: str = "shooting", *, tol: float | None = None,
@@ -29,8 +13,7 @@ def solve_at_speeds(system, omega, harmonics: int, method: str = "shooting", *, 
     """Branch of periodic solutions at the speeds omega (k,) rad/s, in that order (module
     docstring). method "shooting": element models on the implicit one-period map, each
     speed started from the harmonic-balance orbit of the model's linearization there
-    (``omega_split``, max(64, 4 harmonics + 1) samples) at :func:`implicit_safe_speed`
-    (the given speed to ~1e-16); other DAEs with DOP853, each from the
+    (``omega_split``, max(64, 4 harmonics + 1) samples); other DAEs with DOP853, each from the
     previous orbit (the first from rest). Spectra of q to ``harmonics`` (from 2 harmonics
     + 1 orbit samples; the implicit map from all its steps). "ihb": EGA-IHB with
     ``harmonics`` from the previous orbit, stability by the orbit-linearization
@@ -55,7 +38,7 @@ def solve_at_speeds(system, omega, harmonics: int, method: str = "shooting", *, 
         if method == "ihb":
             previous = ihb(system, float(w), harmonics, initial=previous, stability=stability, **kw)
         else:
-            w = implicit_safe_speed(w) if elements else float(w)
+            w = float(w)
             start = previous if linear is None else periodic_solution(linear.at(w), harmonics)
             previous = shooting(system, w, initial=start, method=integrator, samples=2 * harmonics + 1, **kw)
         solutions.append(previous)
