@@ -3,7 +3,11 @@ Cardan drive shaft's periodic solution over 0 < omega/omega_b < 1 (alpha = pi/6)
 unstable stretches drawn thin between circles; resonances near 1/4, 1/3 and 1/2 of
 omega_b are marked.
 
-Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use)."""
+Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use).
+Squares: the full non-linear equations (4) at twelve speeds, from the orbits of
+``sweeps/cardan_shaft_nonlinear.toml`` (implicit shooting), the deflection along each
+orbit through the non-linear kinematics; filled stable, open unstable by the
+multipliers of the shooting monodromy."""
 
 from __future__ import annotations
 
@@ -17,9 +21,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn.config  # noqa: E402
+from periodyn.examples.cardan import orbit_maxima  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 NAME = "cardan_shaft"
+NONLINEAR = "cardan_shaft_nonlinear"
 
 
 def over_period(ds, output: str) -> np.ndarray:
@@ -59,11 +65,33 @@ def maximum_figure(ds, values, ylabel: str, title: str):
     return fig, ax
 
 
+def nonlinear_points() -> dict[str, np.ndarray]:
+    """The non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml``: omega / omega_b,
+    stable (bool), and the maxima of :func:`periodyn.examples.cardan.orbit_maxima`, (k,) each."""
+    branch = periodyn.config.ensure(NONLINEAR)["frequency"]
+    study = periodyn.config.load_sweep_file(periodyn.config.project_root() / "sweeps" / f"{NONLINEAR}.toml")
+    system = study.build()  # the element model the orbits were computed for
+    maxima = [orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]
+    return {"ratio": branch.omega / system.metadata["omega_b"], "stable": branch.stable.astype(bool),
+            **{key: np.array([m[key] for m in maxima]) for key in ("deflection", "twist")}}
+
+
+def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> None:
+    """The non-linear maxima ``points[key]`` as squares: filled stable, open unstable;
+    legend: its matplotlib location."""
+    for stable, face, label in ((True, "k", "non-linear, stable"), (False, "none", "non-linear, unstable")):
+        pick = points["stable"] == stable
+        if pick.any():
+            ax.plot(points["ratio"][pick], points[key][pick], "s", mfc=face, mec="k", ms=4, label=label)
+    ax.legend(fontsize=7, loc=legend)
+
+
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     ds = periodyn.config.ensure(NAME)
     deflection = np.abs(over_period(ds, "midpoint_deflection")).max(axis=1)
-    fig, _ = maximum_figure(ds, deflection, r"$(v/l)_{max}$ [-]",
-                            r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection")
+    fig, ax = maximum_figure(ds, deflection, r"$(v/l)_{max}$ [-]",
+                             r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection (squares: non-linear)")
+    draw_nonlinear(ax, nonlinear_points(), "deflection")
     fig.tight_layout()
     return [save_figure(fig, pathlib.Path(out_dir) / "fig09_cardan_max_deflection.png")]
 

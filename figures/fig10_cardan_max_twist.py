@@ -2,7 +2,8 @@
 periodic solution over 0 < omega/omega_b < 1, unstable stretches thin between circles;
 the static twist at zero misalignment, M_o L / (G J), is drawn dashed.
 
-Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use)."""
+Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use);
+squares: the full non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml`` (as in Fig. 9)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ import periodyn.config
 from periodyn.plotting import save_figure
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
-from fig09_cardan_max_deflection import NAME, maximum_figure, over_period  # noqa: E402
+from fig09_cardan_max_deflection import (NAME, draw_nonlinear, maximum_figure, nonlinear_points,  # noqa: E402
+                                         over_period)
 
 STATIC_TWIST = 1060.288 * 1.0 / (210e9 / 2.6 * 3.141592653589793 * 0.03**4 / 2)   # rad
 
@@ -23,6 +25,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig, ax = maximum_figure(ds, over_period(ds, "twist").max(axis=1), r"$\varphi_{max}$ [rad]",
                              r"Cardan shaft, $\alpha = \pi/6$: twist (dashed: static, $\alpha = 0$)")
     ax.axhline(STATIC_TWIST, color="0.5", ls="--", lw=0.8)
+    draw_nonlinear(ax, nonlinear_points(), "twist", legend="upper right")
     fig.tight_layout()
     return [save_figure(fig, pathlib.Path(out_dir) / "fig10_cardan_max_twist.png")]
 

@@ -170,7 +170,10 @@ def _cmd_study(args, spec, out: Path) -> int:
     if args.scheduler or args.chunk_size:
         raise InputError(f"{spec.source} is a continuation study, which runs in one process; drop --scheduler "
                          "and --chunk-size")
-    if args.omega and not args.quiet:
+    if args.omega and not args.quiet and spec.speeds is not None:
+        print(f"note: --omega replaces the study's given speeds by {args.omega[2]} speeds from {args.omega[0]:g} "
+              f"to {args.omega[1]:g} {spec.omega_unit}", file=sys.stderr)
+    elif args.omega and not args.quiet:
         print(f"note: a continuation study follows omega from {args.omega[0]:g} to {args.omega[1]:g} "
               f"{spec.omega_unit} with its own steps; NUM ({args.omega[2]}) is ignored", file=sys.stderr)
     start = time.perf_counter()

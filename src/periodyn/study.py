@@ -5,6 +5,7 @@ a ``periodyn.DAE``)::
 
     [continuation]
     omega = { start = 2.5, stop = 5.0, unit = "rad/s" }   # unit: rad/s, rpm or Hz
+    # or    { values = [150.0, 200.0], unit = "rad/s" }: solutions at these speeds only
     harmonics = 10
     method = "ihb"                # optional: ihb | shooting
     stability = "magnus"          # optional: a periodyn.nonlinear.orbit_linearization method, or false
@@ -18,6 +19,15 @@ a ``periodyn.DAE``)::
     time_history_omega = 3.6      # optional: read by the figure script only
 
 Every omega of the table (the parameter curve's and time_history_omega too) is in omega.unit.
+
+With ``omega.values`` the "frequency" branch holds one periodic solution per given speed
+(in the order given), each by Newton from a start of its own (below), with no arc-length
+steps in between: for stiff element models whose response over a wide speed range passes
+resonances and unstable zones that a continuation would have to resolve point by point.
+Method "shooting" shoots element models on the implicit one-period map (``shooting(...,
+method="implicit")``, multipliers of its monodromy) from the linearized harmonic-balance
+orbit at each speed, other DAEs with DOP853; "ihb" solves EGA-IHB with the stability
+method of the table. No parameter curve or period-doubled branch with given speeds.
 
 ``periodyn sweep FILE`` computes the frequency branch (``continuation`` from omega.start to
 omega.stop), the parameter curve and the period-doubled branch (born at the lowest-omega
@@ -36,6 +46,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from .config_checks import FIXED_UNITS, Checker, FileSpec
@@ -62,6 +73,7 @@ class StudySpec(FileSpec):
     parameter: dict[str, Any] | None
     period_doubling: dict[str, Any] | None
     time_history_omega: float | None
+    speeds: tuple[float, ...] | None = None
 
     @property
     def kind(self) -> str:
@@ -88,9 +100,19 @@ class StudySpec(FileSpec):
         factor = FIXED_UNITS[self.omega_unit]
         return start * factor, stop * factor
 
+    def speed_values(self, omega: tuple | None = None) -> np.ndarray | None:
+        """The given speeds (k,) rad/s (None for a continuation); ``omega`` (start, stop,
+        num) in the file's unit replaces them by num equally spaced speeds."""
+        if self.speeds is None:
+            return None
+        values = self.speeds if omega is None else np.linspace(*(float(v) for v in omega[:2]), int(omega[2]))
+        return np.asarray(values, float) * FIXED_UNITS[self.omega_unit]
+
     def settings(self, omega: tuple | None = None) -> str:
         """What a results file must match to be reused: file text and the omega range."""
-        return json.dumps({"text": self.text, "omega": list(self.omega_range(omega))})
+        speeds = self.speed_values(omega)
+        return json.dumps({"text": self.text, "omega": list(self.omega_range(omega))}
+                          | ({} if speeds is None else {"speeds": speeds.tolist()}))
 
 
 def parse_continuation(check: Checker, table, *, source, name, text, description, example, builder,
@@ -101,14 +123,24 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     c = check.table(table, "[continuation]")
     check.keys(c, "[continuation]", _KEYS, ("omega", "harmonics"))
     om = check.table(c["omega"], "[continuation] omega")
-    check.keys(om, "[continuation] omega", ("start", "stop", "unit"), ("start", "stop", "unit"))
+    speeds = None
+    speed = lambda v, where: check.number(v, where, positive=True)  # noqa: E731
+    if "values" in om:
+        check.keys(om, "[continuation] omega", ("values", "unit"), ("values", "unit"))
+        speeds = tuple(check.values(om["values"], "[continuation] omega.values", speed))
+        omega = (min(speeds), max(speeds))
+        for key in ("parameter", "period_doubling"):
+            if key in c:
+                check.fail(f"[continuation] {key}", "needs a continuation over omega = { start, stop }, not "
+                                                    "given speeds (omega.values)")
+    else:
+        check.keys(om, "[continuation] omega", ("start", "stop", "unit"), ("start", "stop", "unit"))
+        omega = (speed(om["start"], "[continuation] omega.start"), speed(om["stop"], "[continuation] omega.stop"))
+        if omega[0] == omega[1]:
+            check.fail("[continuation] omega", "start and stop are equal; give a range to continue over")
     unit = check.string(om["unit"], "[continuation] omega.unit")
     if unit not in FIXED_UNITS:
         check.fail("[continuation] omega.unit", f"unknown unit '{unit}'; use one of: {', '.join(FIXED_UNITS)}")
-    speed = lambda v, where: check.number(v, where, positive=True)  # noqa: E731
-    omega = (speed(om["start"], "[continuation] omega.start"), speed(om["stop"], "[continuation] omega.stop"))
-    if omega[0] == omega[1]:
-        check.fail("[continuation] omega", "start and stop are equal; give a range to continue over")
     harmonics = check.integer(c["harmonics"], "[continuation] harmonics", 1)
     if harmonics > 200:
         check.fail("[continuation] harmonics", f"{harmonics} harmonics is more than a continuation can afford "
@@ -149,7 +181,7 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     th = c.get("time_history_omega")
     th = None if th is None else speed(th, "[continuation] time_history_omega")
     return StudySpec(source, name, text, description, example, builder, parameters, omega, unit, harmonics,
-                     method, options, parameter, period_doubling, th)
+                     method, options, parameter, period_doubling, th, speeds)
 
 
 def _options(check: Checker, table: dict, where: str, strict: bool = False) -> dict:
@@ -176,6 +208,7 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
     (InputError). progress: None (quiet) or a text stream for one progress line per branch.
     """
     from .continuation import continuation, switch_period_doubling
+    from .study_points import solve_at_speeds
 
     out = Path(out)
     settings = spec.settings(omega)
@@ -203,7 +236,11 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
                   file=progress, flush=True)
         return branch
 
-    branches = {"frequency": run("frequency", continuation, system, (a, b), H, spec.method, **spec.options)}
+    speeds = spec.speed_values(omega)
+    if speeds is not None:
+        branches = {"frequency": run("frequency", solve_at_speeds, system, speeds, H, spec.method, **spec.options)}
+    else:
+        branches = {"frequency": run("frequency", continuation, system, (a, b), H, spec.method, **spec.options)}
     if spec.parameter is not None:
         p = spec.parameter
         omega_p = p["omega"] * FIXED_UNITS[spec.omega_unit]

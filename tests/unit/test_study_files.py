@@ -64,7 +64,8 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
     code = main(["sweep", str(small), "--omega", f"{a}:{stop}:2", "--out", str(out), "--plot", str(tmp_path / "p.png")])
     captured = capsys.readouterr()
     assert code == 0, captured.err
-    assert "NUM (2) is ignored" in captured.err and f"wrote {out}" in captured.out
+    ignored = "NUM (2) is ignored" if spec.speeds is None else "by 2 speeds from"
+    assert ignored in captured.err and f"wrote {out}" in captured.out
     assert (tmp_path / "p.png").stat().st_size > 0
     branches = load_study(out)
     expected = {"frequency"} | ({"parameter"} if spec.parameter else set())
@@ -75,7 +76,10 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
     assert np.all(freq.residual < 1e-6)
     # --omega a:stop replaced the file's range: the branch ends once it passes stop (last step)
     assert freq.omega[:-1].max() < stop < b
-    assert freq.status.startswith("max_points reached") or freq.omega[-1] >= stop
+    if spec.speeds is not None:  # given speeds: exactly a and stop
+        np.testing.assert_allclose(freq.omega, [a, stop], rtol=1e-15)
+    else:
+        assert freq.status.startswith("max_points reached") or freq.omega[-1] >= stop
     if freq.status.startswith("max_points reached"):  # the CLI prints why the branch ended and what to change
         assert "raise max_points" in captured.err
     assert freq.solutions[0].harmonics.shape[0] == 2 * 3 + 1
@@ -160,3 +164,34 @@ def test_ensure_gives_the_branches_of_a_study_and_reuses_them(tmp_path, monkeypa
     np.testing.assert_array_equal(again["frequency"].omega, branches["frequency"].omega)
     small.write_text(small.read_text().replace("max_points = 4", "max_points = 5"))
     assert len(ensure(small.stem)["frequency"]) == 5  # another version of the file: computed again
+
+
+def test_study_at_given_speeds_is_pointwise_shooting(tmp_path):
+    """omega.values: one orbit per given speed, in the order given, each the orbit that
+    shooting finds on its own at that speed (the same spectra and multipliers)."""
+    from periodyn.examples import duffing
+    from periodyn.nonlinear import shooting
+
+    study = tmp_path / "duffing_points.toml"
+    study.write_text('[model]\nexample = "duffing"\n[model.parameters]\nF = 0.3\n[continuation]\n'
+                     'omega = { values = [0.8, 1.3, 1.05], unit = "rad/s" }\nharmonics = 5\nmethod = "shooting"\n')
+    out = tmp_path / "points.nc"
+    assert main(["sweep", str(study), "--out", str(out), "-q"]) == 0
+    freq = load_study(out)["frequency"]
+    np.testing.assert_array_equal(freq.omega, [0.8, 1.3, 1.05])
+    assert freq.status.startswith("solutions at 3 given speeds")
+    for k, w in enumerate(freq.omega):
+        alone = shooting(duffing(F=0.3), w, samples=11)
+        np.testing.assert_allclose(freq.solutions[k].harmonics, alone.harmonics, atol=1e-8)
+        np.testing.assert_allclose(np.sort(np.abs(freq.solutions[k].multipliers)), np.sort(np.abs(alone.multipliers)),
+                                   rtol=1e-6)
+        assert freq.stable[k] == alone.stable and freq.residual[k] < 1e-9
+
+
+def test_given_speeds_refuse_a_parameter_curve(tmp_path, capsys):
+    text = (project_root() / "sweeps" / "dae_rod_pendulum.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('omega = { start = 2.5, stop = 5.0, unit = "rad/s" }',
+                                'omega = { values = [2.5, 3.0], unit = "rad/s" }'))
+    assert main(["sweep", str(bad), "--out", str(tmp_path / "bad.nc")]) == 2
+    assert "[continuation] parameter: needs a continuation over omega = { start, stop }" in capsys.readouterr().err

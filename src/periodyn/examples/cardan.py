@@ -23,6 +23,10 @@ joint centres, so the harmonics keep the symmetry of the paper's Fig. 11-12):
 - ``midpoint_deflection_normal``: the same in the other lateral direction;
 - ``twist``: rotation of the shaft's driven (input) end relative to its far end about
   the shaft axis (rad; positive when transmitting power).
+
+:func:`cardan_shaft` is the linearized model (an OmegaSplitModel for sweeps),
+:func:`cardan_shaft_nonlinear` the full non-linear equations (4) of the same element
+model for shooting, :func:`orbit_maxima` the maxima of Fig. 9-10 along its orbits.
 """
 
 from __future__ import annotations
@@ -35,7 +39,8 @@ from ..linearize import linearize, omega_split
 from ..model import BeamSection, Model
 from ..model.spatial import axis_angle
 
-__all__ = ["cardan_shaft", "cardan_shaft_model", "cardan_frequencies", "CARDAN"]
+__all__ = ["cardan_shaft", "cardan_shaft_nonlinear", "cardan_shaft_model", "orbit_maxima", "cardan_frequencies",
+           "CARDAN"]
 
 #: the paper's data (SI)
 CARDAN = {"length": 1.0, "radius": 0.03, "density": 7850.0, "youngs_modulus": 210e9, "poisson_ratio": 0.3,
@@ -51,10 +56,14 @@ def _check(alpha, elements):
 
 def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, torsion_kelvin_voigt: float = 0.0,
                        output_torque: float = CARDAN["output_torque"], elements: int = 2,
-                       rotary_inertia: bool = True):
+                       rotary_inertia: bool = True, split_input: bool = False):
     """The compiled element model; kelvin_voigt / torsion_kelvin_voigt: material damping
     time constants (s) of bending and torsion; elements: beam elements (even);
-    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper).
+    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper);
+    split_input: drive the input shaft through two coaxial hinges at half the rate (the
+    same motion; for the non-linear equations, whose one-period map ends at an input angle
+    of 2 pi, the edge of a hinge angle's range (-2 pi, 2 pi], where a rounding error puts
+    the configuration on the wrong branch).
     Torsion and bending of every element are dynamic, elongation rigid."""
     _check(alpha, elements)
     L, ca, sa = CARDAN["length"], np.cos(alpha), np.sin(alpha)
@@ -67,8 +76,14 @@ def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, t
         m.add_orientation(name, rotation)
         m.fix(name)
     m.add_orientation("shaft_in")
-    m.add_hinge("bearing_in", ("ground_in", "shaft_in"), axis=(1, 0, 0))
-    m.prescribe("bearing_in.rotation", rate=1.0)
+    if split_input:  # two hinges at half the rate: each turns pi per revolution, inside (-2 pi, 2 pi]
+        m.add_orientation("shaft_half")
+        m.add_hinge("bearing_in", ("ground_in", "shaft_half"), axis=(1, 0, 0))
+        m.add_hinge("bearing_in_half", ("shaft_half", "shaft_in"), axis=(1, 0, 0))
+        m.prescribe("bearing_in_half.rotation", rate=0.5)
+    else:
+        m.add_hinge("bearing_in", ("ground_in", "shaft_in"), axis=(1, 0, 0))
+    m.prescribe("bearing_in.rotation", rate=0.5 if split_input else 1.0)
     # the drive shaft: points and orientation nodes along the chord
     points, nodes = [f"P{i}" for i in range(elements + 1)], [f"R{i}" for i in range(elements + 1)]
     for i, (point, node) in enumerate(zip(points, nodes)):
@@ -112,6 +127,21 @@ def cardan_frequencies(model) -> dict[str, float]:
     return {"bending": float(omega[share < 0.5][0]), "torsion": float(omega[share >= 0.5][0])}
 
 
+def _damped_model(alpha, damping, elements, split_input=False):
+    """(compiled model with Kelvin-Voigt damping giving ``damping`` of critical in the
+    first bending and torsion modes of the straight unloaded shaft, its metadata)."""
+    if not (isinstance(damping, (int, float)) and 0 <= damping < 1):
+        raise InputError(f"damping must be a fraction of critical in [0, 1), got {damping!r}")
+    _check(alpha, elements)
+    freq = cardan_frequencies(cardan_shaft_model(0.0, output_torque=0.0, elements=elements))
+    # S_d = beta S gives modal damping beta * omega / 2 in a mode that strains only those modes
+    beta_b, beta_t = 2.0 * damping / freq["bending"], 2.0 * damping / freq["torsion"]
+    model = cardan_shaft_model(alpha, kelvin_voigt=beta_b, torsion_kelvin_voigt=beta_t, elements=elements,
+                               split_input=split_input)
+    return model, {"omega_b": freq["bending"], "omega_t": freq["torsion"], "alpha": float(alpha),
+                   "damping": float(damping), "kelvin_voigt": beta_b, "torsion_kelvin_voigt": beta_t}
+
+
 def cardan_shaft(alpha: float = np.pi / 6, damping: float = 0.01, samples: int = 64, elements: int = 2):
     """OmegaSplitModel of the Cardan drive shaft at misalignment alpha (rad); damping:
     fraction of critical in the first bending and first torsion mode of the straight
@@ -119,14 +149,36 @@ def cardan_shaft(alpha: float = np.pi / 6, damping: float = 0.01, samples: int =
     beam elements (even). metadata: ``omega_b`` (first bending frequency of the
     undamped pinned shaft, rad/s, the reference frequency of sweeps), ``omega_t``
     (first torsion frequency), the Kelvin-Voigt time constants."""
-    if not (isinstance(damping, (int, float)) and 0 <= damping < 1):
-        raise InputError(f"damping must be a fraction of critical in [0, 1), got {damping!r}")
-    _check(alpha, elements)
-    freq = cardan_frequencies(cardan_shaft_model(0.0, output_torque=0.0, elements=elements))
-    # S_d = beta S gives modal damping beta * omega / 2 in a mode that strains only those modes
-    beta_b, beta_t = 2.0 * damping / freq["bending"], 2.0 * damping / freq["torsion"]
-    model = cardan_shaft_model(alpha, kelvin_voigt=beta_b, torsion_kelvin_voigt=beta_t, elements=elements)
+    model, metadata = _damped_model(alpha, damping, elements)
     return omega_split(model, samples, name=f"cardan_shaft(alpha={alpha:.6g}, damping={damping})",
-                       rebuild=lambda p: cardan_shaft(alpha, damping, p, elements),
-                       metadata={"omega_b": freq["bending"], "omega_t": freq["torsion"], "alpha": float(alpha),
-                                 "damping": float(damping), "kelvin_voigt": beta_b, "torsion_kelvin_voigt": beta_t})
+                       rebuild=lambda p: cardan_shaft(alpha, damping, p, elements), metadata=metadata)
+
+
+def cardan_shaft_nonlinear(alpha: float = np.pi / 6, damping: float = 0.01, elements: int = 2):
+    """The full non-linear equations (4) of the same Cardan shaft (``periodyn.element_dae``
+    of the element model of :func:`cardan_shaft`, same damping): an ODE in the ten
+    deformation modes of the two beams (torsion and four bending modes each) that
+    ``periodyn.shooting(..., method="implicit")`` solves; ``.equations.model`` is the
+    element model (outputs by ``periodyn.nonlinear.element_outputs``), ``.metadata`` as
+    :func:`cardan_shaft`'s."""
+    from ..nonlinear.elements import element_dae
+
+    model, metadata = _damped_model(alpha, damping, elements, split_input=True)
+    system = element_dae(model, name=f"cardan_shaft_nonlinear(alpha={alpha:.6g}, damping={damping})")
+    system.metadata = metadata
+    return system
+
+
+def orbit_maxima(model, solution, samples: int = 360) -> dict[str, float]:
+    """Maxima along a non-linear orbit of the Cardan shaft (a PeriodicSolution of
+    :func:`cardan_shaft_nonlinear`, ``model`` its ``.equations.model``), at ``samples``
+    times per period, the quantities of Fig. 9-10: ``deflection`` max |v/l| of the
+    midpoint deflection, ``twist`` max phi (rad), each measured from the rigid motion
+    (``periodyn.nonlinear.element_outputs``) as the linearized outputs are."""
+    from ..nonlinear.elements import element_outputs
+
+    t = np.arange(samples) * solution.period / samples
+    y = element_outputs(model, solution.omega, t, solution(t))
+    names = [o.name for o in model.outputs]
+    return {"deflection": float(np.abs(y[:, names.index("midpoint_deflection")]).max()),
+            "twist": float(y[:, names.index("twist")].max())}

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InputError
 from ..kernels import assembly
 from ..kernels import nonlinear as kernel
-from ..kernels.outputs import midpoint_deflection
+from ..kernels.outputs import body_component, midpoint_deflection
 from ..kinematics import MAX_HALVINGS, NEWTON_MAX_ITER, _tolerance
 from .linear import ode
 
@@ -191,7 +191,7 @@ def reduced_equations(model, omega: float, t, q, qd, qdd):
 def _values(model, X: np.ndarray) -> np.ndarray:
     """Output functionals y(x) (k, n_out) at configurations X (k, n_x)."""
     y = np.empty((X.shape[0], len(model.outputs)))
-    grad = np.empty(6)
+    grad = np.empty(10)
     tensors = assembly.allocate_tensors(model.arrays)
     for j, x in enumerate(X):
         if any(o.kind == "mode" for o in model.outputs):
@@ -204,6 +204,8 @@ def _values(model, X: np.ndarray) -> np.ndarray:
                 y[j, i] = xs[0] / o.scale
             elif o.kind == "relative_rotation":
                 y[j, i] = xs[1] - xs[0]
+            elif o.kind == "body_component":
+                y[j, i] = body_component(np.ascontiguousarray(xs), o.direction, o.scale, grad)
             else:
                 y[j, i] = tensors[0][o.element, o.mode] / o.scale
     return y
