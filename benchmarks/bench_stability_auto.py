@@ -10,8 +10,8 @@
    options (stability "auto"), on --workers processes, speeds/s (a cold start included
    when run first).
 3. With --per-speed: stability alone, ms per speed on one core, of the certified Magnus
-   ladder of order 6 (the default), of order 4 (the previous ladder) and of dense Hill at
-   m = 12 (stacked), best of interleaved rounds on the same speeds, with the ladders' steps
+   ladder as "auto" uses it (both orders, the cheaper per speed region), of order 6 alone,
+   of order 4 alone (the previous ladder's integrator) and of dense Hill at m = 12 (stacked), best of interleaved rounds on the same speeds, with the ladders' steps
    and whether all three give the same verdicts (pendulum, slider-crank 2 and 32 rod
    elements, Cardan shaft).
 
@@ -115,12 +115,13 @@ def per_speed(rounds: int = 3, m: int = 12) -> None:
              ("cardan", cardan, np.linspace(0.02, 0.999, 32) * wb),
              ("slider-crank x32", scaled_slider_crank(32), np.linspace(150.0, 300.0, 4))]
     print(f"\nstability alone, ms per speed, one core; dense Hill at m = {m}")
-    print(f"{'model':<18}{'n':>4}{'speeds':>7}{'magnus6':>10}{'magnus4':>10}{'dense':>10}{'6/4':>7}{'6/dense':>8}"
-          "   steps 6 / 4 (median, max)   same verdicts")
+    print(f"{'model':<18}{'n':>4}{'speeds':>7}{'ladder':>9}{'magnus6':>9}{'magnus4':>9}{'dense':>10}{'lad/4':>7}"
+          f"{'lad/dense':>10}   steps ladder / 6 / 4 (median/max)   orders   same verdicts")
     for name, model, w in cases:
-        ladders = {k: MagnusLadder(*model._power_spectra[:3], order=k) for k in (6, 4)}
+        ladders = {k: MagnusLadder(*model._power_spectra[:3], order=k) for k in (None, 6, 4)}
         solver = SpeedSolver(model, m, method="dense")
-        arms = {"magnus6": lambda: ladders[6].solve(w, np.inf), "magnus4": lambda: ladders[4].solve(w, np.inf),
+        arms = {"ladder": lambda: ladders[None].solve(w, np.inf), "magnus6": lambda: ladders[6].solve(w, np.inf),
+                "magnus4": lambda: ladders[4].solve(w, np.inf),
                 "dense": lambda: dense_exponents_batch(solver.harmonic.real_first_order_many(w), w, m, model.n)[0]}
         results = {k: f() for k, f in arms.items()}  # warm-up (jit, cached terms)
         best = {k: np.inf for k in arms}
@@ -130,16 +131,18 @@ def per_speed(rounds: int = 3, m: int = 12) -> None:
                 f()
                 best[k] = min(best[k], (time.perf_counter() - t0) / w.size)
         period = 2 * np.pi / w
-        verdicts = [results["magnus6"].exponents.real.max(axis=1) * period <= 1e-6,
-                    results["magnus4"].exponents.real.max(axis=1) * period <= 1e-6,
-                    results["dense"].real.max(axis=1) * period <= 1e-6]
-        certified = results["magnus6"].accepted & results["magnus4"].accepted
-        same = int(((verdicts[0] == verdicts[1]) & (verdicts[0] == verdicts[2]))[certified].sum())
-        steps = "  ".join(f"{int(np.median(results[k].steps))}/{results[k].steps.max()}" for k in ("magnus6", "magnus4"))
+        magnus = ("ladder", "magnus6", "magnus4")
+        verdicts = [results[k].exponents.real.max(axis=1) * period <= 1e-6 for k in magnus]
+        dense = results["dense"].real.max(axis=1) * period <= 1e-6
+        certified = np.logical_and.reduce([results[k].accepted for k in magnus])
+        same = int(np.logical_and.reduce([v == dense for v in verdicts])[certified].sum())
+        steps = " ".join(f"{int(np.median(results[k].steps))}/{results[k].steps.max()}" for k in magnus)
+        orders = results["ladder"].order.tolist()
+        used = "/".join(f"{k}:{orders.count(k)}" for k in (6, 4) if orders.count(k))
         ms = {k: 1e3 * v for k, v in best.items()}
-        print(f"{name:<18}{model.n:4d}{w.size:7d}{ms['magnus6']:10.3f}{ms['magnus4']:10.3f}{ms['dense']:10.3f}"
-              f"{ms['magnus6'] / ms['magnus4']:7.2f}{ms['magnus6'] / ms['dense']:8.2f}   {steps:<26}  "
-              f"{same}/{int(certified.sum())} certified", flush=True)
+        print(f"{name:<18}{model.n:4d}{w.size:7d}{ms['ladder']:9.3f}{ms['magnus6']:9.3f}{ms['magnus4']:9.3f}"
+              f"{ms['dense']:10.3f}{ms['ladder'] / ms['magnus4']:7.2f}{ms['ladder'] / ms['dense']:10.3f}   "
+              f"{steps:<33}{used:<10}{same}/{int(certified.sum())} certified", flush=True)
 
 
 def main():

@@ -128,8 +128,8 @@ HILL_TIME_FACTOR = 4.0
 def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float) -> str:
     """Why "auto" took Magnus or Hill at speed i of a :class:`MagnusEstimate`."""
     if est.accepted[i]:
-        return (f"Magnus with {est.steps[i]} steps: estimated error {est.error[i]:.1g} (tolerance {STABILITY_TOL:g}) "
-                f"and verdict margin {est.margin[i]:.2g}; estimated {first_cost:.2g} s vs {hill} Hill "
+        return (f"Magnus of order {est.order[i]} with {est.steps[i]} steps: estimated error {est.error[i]:.1g} "
+                f"(tolerance {STABILITY_TOL:g}) and verdict margin {est.margin[i]:.2g}; estimated {first_cost:.2g} s vs {hill} Hill "
                 f"{hill_seconds:.2g} s")
     if est.steps[i] == 0:
         return f"{hill} Hill: estimated {hill_seconds:.2g} s <= Magnus {first_cost:.2g} s"

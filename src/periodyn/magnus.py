@@ -135,7 +135,8 @@ def half_period_signs(*spectra: np.ndarray, rtol: float = 1e-12) -> np.ndarray |
 _PRODUCT_RATE = (4.5e9, 1.2e10)  # flop/s of one product, below / from d = 16
 _STEP_SETUP = 5.0e-7  # s per step
 _STEP_PRODUCTS = {4: 6.0, 6: 12.0}  # products per step besides the squarings (commutators, Taylor)
-_BUILD_COST = (1.5e-4, 2.0e-9)  # s per ladder, s per synthesized coefficient entry
+_BUILD_COST = (3.0e-4, 2.0e-9)  # s per ladder, s per synthesized coefficient entry
+_RUNG_OVERHEAD = 1.0e-4  # s of Python work per rung and call (shared by the speeds of a call)
 #: Least error claimed for log|mu|: differences of rungs at the round-off level of N-step
 #: products no longer estimate the error
 ERROR_FLOOR = 1e-9
@@ -149,20 +150,23 @@ class MagnusEstimate:
     certifies the result (else the speed needs another method); steps (S,) fine steps
     used (over the ladder's span: half a period for half-period-symmetric coefficients;
     0 where Magnus was not tried); error (S,) estimated error of log|mu| per period;
-    margin (S,) distance of log max|mu| from the stability threshold."""
+    margin (S,) distance of log max|mu| from the stability threshold; order (S,) the
+    Magnus order used (4 or 6; 0 where not tried)."""
 
     exponents: np.ndarray
     accepted: np.ndarray
     steps: np.ndarray
     error: np.ndarray
     margin: np.ndarray
+    order: np.ndarray
 
 
 class MagnusLadder:
     """Magnus monodromy with step doubling, for one omega-polynomial model.
 
     mass (2K+1, n, n), damping (2K+1, n, n, Pc), stiffness (2K+1, n, n, Pk): two-sided
-    spectra with omega powers last; order 6 (three Gauss points a step) or 4 (two).
+    spectra with omega powers last; order 6 (three Gauss points a step), 4 (two), or None:
+    both, the cheaper per speed region (below).
 
     At each speed the rungs N0, 2 N0, 4 N0, ... steps are computed. With G = log max|mu|
     and the sorted moduli of two successive rungs,
@@ -172,16 +176,22 @@ class MagnusLadder:
     estimate is Richardson's with a factor 2 of safety, ``2 e / (min(r, 64) - 1)``; before
     that regime, and always for order 4 (whose error on the slider-crank falls erratically
     before its asymptotic regime: Richardson missed by 5-10x there), e itself is used. No
-    estimate is below ERROR_FLOOR (round-off). A speed is accepted when the estimate is at most
-    STABILITY_TOL max(1, |G_N|) (relative to a growth above 1 per period, where the
+    estimate is below ERROR_FLOOR (round-off). A speed is accepted when the estimate is at
+    most STABILITY_TOL max(1, |G_N|) (relative to a growth above 1 per period, where the
     verdict is clear) and the verdict cannot flip, ``|G_N - STABILITY_TOL| > error``;
     otherwise (also when the multipliers overflow: at low speeds the coarse steps span
     many vibration periods) N is doubled while the estimated cost stays within the
     speed's budget (and N <= LARGEST).
 
-    First rungs: among the speeds of one call, every PILOT-th (sorted by speed) climbs
-    from START / 2; each other speed starts two rungs below where its nearest pilot
-    stopped, so that most certify in the first three rungs they compute.
+    Pilots and first rungs: among the speeds of one call, every PILOT-th (sorted by speed)
+    climbs in each order from START / 2 or from the first rung whose balanced generator
+    size is at most FIRST_RHO (:meth:`first_rungs`: coarser rungs do not resolve the stiff
+    modes of element models and cost the most squarings), and keeps the order that
+    certified at the least estimated cost (with fewer than PILOT speeds, only the first
+    order, 6, is tried) (order 6 wins on smooth, lightly damped models,
+    order 4 on stiff element models, where its error is smaller at the same steps). Each
+    other speed takes its nearest pilot's order and starts where that pilot's certified
+    comparison started (two rungs below its last for order 6, one for order 4).
 
     When the coefficients have a half-period symmetry (:func:`half_period_signs`), the
     steps cover half a period and the monodromy is ``(P Phi(T/2))^2``: the same step
@@ -191,64 +201,76 @@ class MagnusLadder:
     START = {4: 32, 6: 8}  # fine steps of the first comparison of a pilot speed
     LARGEST = 4096  # steps
     PILOT = 8
+    FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
 
-    def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int = 6):
-        if order not in (4, 6):
-            raise InputError(f"the Magnus ladder has order 4 or 6, got {order!r}")
-        self.order, self.points, self.start = order, order // 2, self.START[order]
+    def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
+        if order not in (4, 6, None):
+            raise InputError(f"the Magnus ladder has order 4 or 6 (or None: both), got {order!r}")
+        self.orders = (6, 4) if order is None else (order,)
         self.spectra = (mass, damping, stiffness)
         self.n = mass.shape[1]
         self.signs = half_period_signs(mass, damping, stiffness)
         self.span = 2 * np.pi if self.signs is None else np.pi  # angle the steps cover, rad
-        self._terms: dict[int, np.ndarray] = {}
-        self.scale = self.terms(self.start)[1]
+        self._terms: dict[tuple[int, int], tuple[np.ndarray, float]] = {}
+        self.scale = self.terms(self.START[self.orders[0]], self.orders[0])[1]
 
     @classmethod
     def build_cost(cls, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int = 6) -> float:
         """Estimated seconds of building a ladder for these spectra and of its first
-        comparison at the least (no squarings): what "auto" spends before Magnus can
-        certify anything at a single system."""
+        three rungs of ``order`` at the least (no squarings): what "auto" spends before
+        Magnus can certify anything at a single system."""
         angles = (order // 2) * cls.START[order]
         entries = sum(X.size for X in (mass, damping, stiffness)) * angles
         d = 2 * mass.shape[1]
         product = 2.0 * d**3 / _PRODUCT_RATE[int(d >= 16)]
-        first = 1.5 * cls.START[order] * (_STEP_PRODUCTS[order] * product + _STEP_SETUP)
-        return _BUILD_COST[0] + _BUILD_COST[1] * entries + first
+        first = 1.75 * cls.START[order] * (_STEP_PRODUCTS[order] * product + _STEP_SETUP)
+        return _BUILD_COST[0] + _BUILD_COST[1] * entries + first + 3 * _RUNG_OVERHEAD
 
-    def terms(self, steps: int) -> tuple[np.ndarray, float]:
-        """Terms of the balanced system matrix at the Gauss angles of ``steps`` steps over
-        the span; over half a period, term p is divided by 2^p so that the kernel, given
-        twice the speed, takes steps of span / (omega steps) with the right matrix."""
-        if steps not in self._terms:
-            angles = gauss_angles(steps, 0.0, self.span, self.points)
+    def terms(self, steps: int, order: int = 6) -> tuple[np.ndarray, float]:
+        """Terms of the balanced system matrix at the Gauss angles of ``steps`` steps of
+        ``order`` over the span; over half a period, term p is divided by 2^p so that the
+        kernel, given twice the speed, takes steps of span / (omega steps) with the right
+        matrix."""
+        if (order, steps) not in self._terms:
+            angles = gauss_angles(steps, 0.0, self.span, order // 2)
             terms, a = magnus_terms(*(synthesize(X, angles) for X in self.spectra))
             if self.signs is not None:
                 terms = terms / (2.0 ** np.arange(terms.shape[0]))[:, None, None, None]
-            self._terms[steps] = terms, a
-        return self._terms[steps]
+            self._terms[order, steps] = terms, a
+        return self._terms[order, steps]
 
-    def cost(self, omegas: np.ndarray, steps) -> np.ndarray:
-        """Estimated seconds (S,) of one monodromy with ``steps`` steps at speeds omegas:
-        the squarings of the exponentials follow the balanced generator's size,
-        scale * span / (omega steps)."""
+    def cost(self, omegas: np.ndarray, steps, order: int = 6) -> np.ndarray:
+        """Estimated seconds (S,) of one monodromy with ``steps`` steps of ``order`` at
+        speeds omegas: the squarings of the exponentials follow the balanced generator's
+        size, scale * span / (omega steps)."""
         d = 2 * self.n
         rho = self.scale * self.span / (np.asarray(omegas, float) * steps)
         squarings = np.maximum(0.0, np.ceil(np.log2(np.maximum(rho, 1e-300) / 4.0)))
         product = 2.0 * d**3 / _PRODUCT_RATE[int(d >= 16)]
-        return steps * ((_STEP_PRODUCTS[self.order] + squarings) * product + _STEP_SETUP)
+        return steps * ((_STEP_PRODUCTS[order] + squarings) * product + _STEP_SETUP)
+
+    def first_rungs(self, omegas: np.ndarray, order: int = 6) -> np.ndarray:
+        """Steps (S,) of a pilot's first rung: START / 2, or more where the balanced step
+        generator would exceed FIRST_RHO."""
+        rho = self.scale * self.span / (np.asarray(omegas, float) * self.FIRST_RHO)
+        return np.maximum(self.START[order] // 2, 2 ** np.ceil(np.log2(np.maximum(rho, 1.0))).astype(np.int64))
 
     def first_cost(self, omegas: np.ndarray) -> np.ndarray:
-        """Estimated seconds (S,) of a pilot's first comparison (START / 2 and START steps)."""
-        return self.cost(omegas, self.start) + self.cost(omegas, self.start // 2)
+        """Estimated seconds (S,) of a pilot's first comparison (its first two rungs) in
+        the ladder's first order."""
+        order = self.orders[0]
+        first = self.first_rungs(omegas, order)
+        return self.cost(omegas, first, order) + self.cost(omegas, 2 * first, order)
 
-    def _moduli(self, omegas: np.ndarray, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    def _moduli(self, omegas: np.ndarray, steps: int, order: int) -> tuple[np.ndarray, np.ndarray]:
         """Exponents (S, 2n) and sorted multiplier moduli (S, 2n) with ``steps`` steps
         (NaN where the monodromy matrix is not finite)."""
         Phi = np.empty((omegas.size, 2 * self.n, 2 * self.n))
+        terms = self.terms(steps, order)[0]
         if self.signs is None:
-            magnus_monodromies(self.terms(steps)[0], omegas, Phi, self.points)
+            magnus_monodromies(terms, omegas, Phi, order // 2)
         else:
-            magnus_monodromies(self.terms(steps)[0], 2.0 * omegas, Phi, self.points)  # Phi(T/2), see terms()
+            magnus_monodromies(terms, 2.0 * omegas, Phi, order // 2)  # Phi(T/2), see terms()
             Phi *= np.concatenate([self.signs, self.signs])[:, None]
             with np.errstate(all="ignore"):  # an overflow is caught as non-finite below
                 Phi = Phi @ Phi
@@ -258,62 +280,80 @@ class MagnusLadder:
         with np.errstate(over="ignore"):  # a multiplier beyond the double range is inf: not accepted
             return exps, np.sort(np.exp(exps.real * (2 * np.pi / omegas)[:, None]), axis=1)
 
+    def _empty(self, S: int) -> MagnusEstimate:
+        d = 2 * self.n
+        return MagnusEstimate(np.full((S, d), np.nan + 0j), np.zeros(S, bool), np.zeros(S, np.int64),
+                              np.full(S, np.inf), np.full(S, np.nan), np.zeros(S, np.int64))
+
     def solve(self, omegas, budget) -> MagnusEstimate:
         """Exponents at speeds omegas (S,) rad/s, each speed doubling its steps while the
         spent estimated cost stays within budget (S,) s."""
         w = np.asarray(omegas, float)
-        S, d = w.size, 2 * self.n
+        S = w.size
         budget = np.broadcast_to(np.asarray(budget, float), (S,))
-        out = MagnusEstimate(np.full((S, d), np.nan + 0j), np.zeros(S, bool), np.zeros(S, np.int64),
-                             np.full(S, np.inf), np.full(S, np.nan))
-        order = np.argsort(w, kind="stable")
-        pilots = np.unique(np.r_[order[:: self.PILOT], order[-1:]])
-        first = np.full(S, self.start // 2)
-        self._climb(w, budget, pilots, first, out)
+        out = self._empty(S)
+        ranked = np.argsort(w, kind="stable")
+        pilots = np.unique(np.r_[ranked[:: self.PILOT], ranked[-1:]])
+        best = np.full(S, np.inf)
+        for order in self.orders if S >= self.PILOT else self.orders[:1]:  # the order certified at the least cost
+            trial = self._empty(S)
+            spent = self._climb(w, budget, pilots, self.first_rungs(w, order), trial, order)
+            better = trial.accepted & (spent < best) | (~out.accepted & ~trial.accepted & (trial.steps > 0)
+                                                         & (out.steps == 0))
+            better[np.setdiff1d(np.arange(S), pilots)] = False
+            best[better & trial.accepted] = spent[better & trial.accepted]
+            for name in MagnusEstimate.__dataclass_fields__:
+                getattr(out, name)[better] = getattr(trial, name)[better]
         rest = np.setdiff1d(np.arange(S), pilots)
         if rest.size:
             logs = np.log(w[pilots])
             at = np.clip(np.searchsorted(logs, np.log(w[rest])), 1, max(1, pilots.size - 1))
-            below = np.maximum(at - 1, 0)
-            above = np.minimum(at, pilots.size - 1)
+            below, above = np.maximum(at - 1, 0), np.minimum(at, pilots.size - 1)
             near = np.where(np.abs(np.log(w[rest]) - logs[below]) <= np.abs(np.log(w[rest]) - logs[above]),
                             pilots[below], pilots[above])
-            first[rest] = np.maximum(self.start // 2, out.steps[near] // 4)
-            self._climb(w, budget, rest, first, out)
+            for order in self.orders:
+                mine = rest[np.where(out.order[near] == 0, self.orders[0], out.order[near]) == order]
+                mine_near = near[np.isin(rest, mine)]
+                first = self.first_rungs(w, order)
+                first[mine] = np.maximum(first[mine], out.steps[mine_near] // (4 if order == 6 else 2))
+                self._climb(w, budget, mine, first, out, order)
         return out
 
-    def _climb(self, w, budget, idx, first, out) -> None:
-        """Step doubling from ``first[idx]`` steps at the speeds w[idx], filling out."""
-        idx = idx[np.argsort(w[idx], kind="stable")]  # the pilots' order, for their nearest-pilot search
+    def _climb(self, w, budget, idx, first, out, order) -> np.ndarray:
+        """Step doubling in ``order`` from ``first[idx]`` steps at the speeds w[idx],
+        filling out; returns the estimated seconds spent (S,)."""
+        spent_all = np.zeros(w.size)
         rung = first[idx].copy()
+        affordable = self.cost(w[idx], rung, order) + self.cost(w[idx], 2 * rung, order) <= budget[idx]
+        idx, rung = idx[affordable], rung[affordable]
         spent = np.zeros(idx.size)
-        affordable = self.cost(w[idx], rung) + self.cost(w[idx], 2 * rung) <= budget[idx]
-        idx, rung, spent = idx[affordable], rung[affordable], spent[affordable]
         last = np.full((idx.size, 2 * self.n), np.nan)
         e_prev = np.full(idx.size, np.nan)
         active = np.arange(idx.size)
-        tolerance_ratio = 2.0 ** (self.order - 1) if self.order == 6 else np.inf
+        richardson = 2.0 ** (order - 1) if order == 6 else np.inf
         while active.size:
             done = np.zeros(idx.size, bool)
             for steps in np.unique(rung[active]):
                 sel = active[rung[active] == steps]
                 ws = w[idx[sel]]
-                spent[sel] += self.cost(ws, steps)
-                exps, mod = self._moduli(ws, int(steps))
+                spent[sel] += self.cost(ws, steps, order)
+                exps, mod = self._moduli(ws, int(steps), order)
                 with np.errstate(all="ignore"):  # non-finite multipliers: error NaN, not accepted
                     top = np.log(mod[:, -1])
                     e = np.maximum(np.abs(top - np.log(last[sel, -1])), np.abs(mod - last[sel]).max(axis=1) / mod[:, -1])
                     r = e_prev[sel] / e
-                    error = np.where(r >= tolerance_ratio, 2.0 * e / (np.minimum(r, 2.0**self.order) - 1.0), e)
+                    error = np.where(r >= richardson, 2.0 * e / (np.minimum(r, 2.0**order) - 1.0), e)
                     error = np.maximum(error, ERROR_FLOOR)
                     margin = np.abs(top - STABILITY_TOL)
                     ok = (error <= STABILITY_TOL * np.maximum(1.0, np.abs(top))) & (margin > error)
                 compared = ~np.isnan(last[sel, -1]) | ~np.isfinite(mod[:, -1])  # a second rung (or a failure)
                 target = idx[sel][compared]
-                out.exponents[target], out.steps[target] = exps[compared], steps
+                out.exponents[target], out.steps[target], out.order[target] = exps[compared], steps, order
                 out.error[target], out.margin[target], out.accepted[target] = error[compared], margin[compared], ok[compared]
                 last[sel], e_prev[sel] = mod, e
-                stop = ok | (spent[sel] + self.cost(ws, 2 * steps) > budget[idx[sel]]) | (2 * steps > self.LARGEST)
+                stop = ok | (spent[sel] + self.cost(ws, 2 * steps, order) > budget[idx[sel]]) | (2 * steps > self.LARGEST)
                 done[sel] = stop & compared
                 rung[sel] = 2 * steps
             active = active[~done[active]]
+        spent_all[idx] = spent
+        return spent_all
