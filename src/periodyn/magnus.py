@@ -181,7 +181,7 @@ class MagnusLadder:
     verdict is clear) and the verdict cannot flip, ``|G_N - STABILITY_TOL| > error``;
     otherwise (also when the multipliers overflow: at low speeds the coarse steps span
     many vibration periods) N is doubled while the estimated cost stays within the
-    speed's budget (and N <= LARGEST).
+    speed's budget (and N <= LARGEST, fewer for large models: :meth:`max_steps`).
 
     Pilots and first rungs: among the speeds of one call, every PILOT-th (sorted by speed)
     climbs in each order from START / 2 or from the first rung whose balanced generator
@@ -202,6 +202,8 @@ class MagnusLadder:
     LARGEST = 4096  # steps
     PILOT = 8
     FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
+    FIRST_MAX = 128  # most steps of a first rung
+    TERMS_ENTRIES = 4e7  # most entries of one rung's cached terms (320 MB), which bounds its steps
 
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
         if order not in (4, 6, None):
@@ -250,10 +252,17 @@ class MagnusLadder:
         return steps * ((_STEP_PRODUCTS[order] + squarings) * product + _STEP_SETUP)
 
     def first_rungs(self, omegas: np.ndarray, order: int = 6) -> np.ndarray:
-        """Steps (S,) of a pilot's first rung: START / 2, or more where the balanced step
-        generator would exceed FIRST_RHO."""
+        """Steps (S,) of a pilot's first rung: START / 2, or more (up to FIRST_MAX) where
+        the balanced step generator would exceed FIRST_RHO."""
         rho = self.scale * self.span / (np.asarray(omegas, float) * self.FIRST_RHO)
-        return np.maximum(self.START[order] // 2, 2 ** np.ceil(np.log2(np.maximum(rho, 1.0))).astype(np.int64))
+        steps = 2 ** np.ceil(np.log2(np.clip(rho, 1.0, self.FIRST_MAX))).astype(np.int64)
+        return np.maximum(self.START[order] // 2, steps)
+
+    def max_steps(self, order: int) -> int:
+        """Most steps of a rung of ``order``: LARGEST, or fewer (a power of 2) where the
+        rung's terms would exceed TERMS_ENTRIES."""
+        per_step = (order // 2) * (2 * self.n) ** 2 * max(X.shape[-1] for X in self.spectra[1:])
+        return int(min(self.LARGEST, 2 ** np.floor(np.log2(max(2.0, self.TERMS_ENTRIES / per_step)))))
 
     def first_cost(self, omegas: np.ndarray) -> np.ndarray:
         """Estimated seconds (S,) of a pilot's first comparison (its first two rungs) in
@@ -331,6 +340,8 @@ class MagnusLadder:
         e_prev = np.full(idx.size, np.nan)
         active = np.arange(idx.size)
         richardson = 2.0 ** (order - 1) if order == 6 else np.inf
+        largest = min(self.LARGEST, self.max_steps(order))
+        rung = np.minimum(rung, largest // 2)
         while active.size:
             done = np.zeros(idx.size, bool)
             for steps in np.unique(rung[active]):
@@ -351,7 +362,7 @@ class MagnusLadder:
                 out.exponents[target], out.steps[target], out.order[target] = exps[compared], steps, order
                 out.error[target], out.margin[target], out.accepted[target] = error[compared], margin[compared], ok[compared]
                 last[sel], e_prev[sel] = mod, e
-                stop = ok | (spent[sel] + self.cost(ws, 2 * steps, order) > budget[idx[sel]]) | (2 * steps > self.LARGEST)
+                stop = ok | (spent[sel] + self.cost(ws, 2 * steps, order) > budget[idx[sel]]) | (2 * steps > largest)
                 done[sel] = stop & compared
                 rung[sel] = 2 * steps
             active = active[~done[active]]
