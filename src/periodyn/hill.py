@@ -142,16 +142,11 @@ def auto_exponents(system: RheoLinear, op: HillOperator) -> FloquetExponents:
     """Stability method "auto" at one system: Magnus with step doubling where its error
     estimate certifies the verdict within the estimated cost of the cheaper Hill method
     (:class:`periodyn.magnus.MagnusLadder`), else that Hill method; the choice and its
-    reason are on the result. The ladder is not built when Hill's estimate is below the
-    estimated cost of building it and of its first comparison."""
+    reason are on the result (the same rule as the speed solver's, which builds the
+    ladder once per model)."""
     hill, seconds, _ = hill_cost(op)
     S = system.spectra
-    spectra = (S.mass, S.damping[..., None], S.stiffness[..., None])
-    build = MagnusLadder.build_cost(*spectra)
-    if seconds <= build:
-        reason = f"{hill} Hill: estimated {seconds:.2g} s <= building the Magnus ladder and its first rungs {build:.2g} s"
-        return dataclasses.replace(operator_exponents(op, hill), reason=reason)
-    ladder = MagnusLadder(*spectra)
+    ladder = MagnusLadder(S.mass, S.damping[..., None], S.stiffness[..., None])
     w = np.array([float(system.omega)])
     est = ladder.solve(w, np.array([seconds * HILL_TIME_FACTOR]))
     reason = magnus_reason(est, 0, hill, seconds, float(ladder.first_cost(w)[0]))

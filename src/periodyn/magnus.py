@@ -135,8 +135,6 @@ def half_period_signs(*spectra: np.ndarray, rtol: float = 1e-12) -> np.ndarray |
 _PRODUCT_RATE = (4.5e9, 1.2e10)  # flop/s of one product, below / from d = 16
 _STEP_SETUP = 5.0e-7  # s per step
 _STEP_PRODUCTS = {4: 6.0, 6: 12.0}  # products per step besides the squarings (commutators, Taylor)
-_BUILD_COST = (3.0e-4, 2.0e-9)  # s per ladder, s per synthesized coefficient entry
-_RUNG_OVERHEAD = 1.0e-4  # s of Python work per rung and call (shared by the speeds of a call)
 #: Least error claimed for log|mu|: differences of rungs at the round-off level of N-step
 #: products no longer estimate the error
 ERROR_FLOOR = 1e-9
@@ -166,7 +164,7 @@ class MagnusLadder:
 
     mass (2K+1, n, n), damping (2K+1, n, n, Pc), stiffness (2K+1, n, n, Pk): two-sided
     spectra with omega powers last; order 6 (three Gauss points a step), 4 (two), or None:
-    both, the cheaper per speed region (below).
+    both, chosen per speed (below).
 
     At each speed the rungs N0, 2 N0, 4 N0, ... steps are computed. With G = log max|mu|
     and the sorted moduli of two successive rungs,
@@ -183,24 +181,22 @@ class MagnusLadder:
     many vibration periods) N is doubled while the estimated cost stays within the
     speed's budget (and N <= LARGEST, fewer for large models: :meth:`max_steps`).
 
-    Pilots and first rungs: among the speeds of one call, every PILOT-th (sorted by speed)
-    climbs in each order from START / 2 or from the first rung whose balanced generator
-    size is at most FIRST_RHO (:meth:`first_rungs`: coarser rungs do not resolve the stiff
-    modes of element models and cost the most squarings), and keeps the order that
-    certified at the least estimated cost (with fewer than PILOT speeds, only the first
-    order, 6, is tried) (order 6 wins on smooth, lightly damped models,
-    order 4 on stiff element models, where its error is smaller at the same steps). Each
-    other speed takes its nearest pilot's order and starts where that pilot's certified
-    comparison started (two rungs below its last for order 6, one for order 4).
+    First rungs and orders, per speed (so that a speed's result does not depend on the
+    other speeds of the call): the first rung is START / 2 steps, or the first rung whose
+    balanced generator size scale * span / (omega N) is at most FIRST_RHO
+    (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of element models
+    and cost the most squarings). With both orders, a speed whose first rung has at least
+    STIFF steps takes order 4 (on the stiff slider-crank its error is smaller than order
+    6's at the same steps), the others order 6 (:meth:`orders_at`).
 
     When the coefficients have a half-period symmetry (:func:`half_period_signs`), the
     steps cover half a period and the monodromy is ``(P Phi(T/2))^2``: the same step
     length at half the cost.
     """
 
-    START = {4: 32, 6: 8}  # fine steps of the first comparison of a pilot speed
+    START = {4: 32, 6: 8}  # fine steps of the first comparison, at the least
     LARGEST = 4096  # steps
-    PILOT = 8
+    STIFF = 16  # first-rung steps from which "both orders" takes order 4
     FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
     FIRST_MAX = 128  # most steps of a first rung
     TERMS_ENTRIES = 4e7  # most entries of one rung's cached terms (320 MB), which bounds its steps
@@ -215,18 +211,6 @@ class MagnusLadder:
         self.span = 2 * np.pi if self.signs is None else np.pi  # angle the steps cover, rad
         self._terms: dict[tuple[int, int], tuple[np.ndarray, float]] = {}
         self.scale = self.terms(self.START[self.orders[0]], self.orders[0])[1]
-
-    @classmethod
-    def build_cost(cls, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int = 6) -> float:
-        """Estimated seconds of building a ladder for these spectra and of its first
-        three rungs of ``order`` at the least (no squarings): what "auto" spends before
-        Magnus can certify anything at a single system."""
-        angles = (order // 2) * cls.START[order]
-        entries = sum(X.size for X in (mass, damping, stiffness)) * angles
-        d = 2 * mass.shape[1]
-        product = 2.0 * d**3 / _PRODUCT_RATE[int(d >= 16)]
-        first = 1.75 * cls.START[order] * (_STEP_PRODUCTS[order] * product + _STEP_SETUP)
-        return _BUILD_COST[0] + _BUILD_COST[1] * entries + first + 3 * _RUNG_OVERHEAD
 
     def terms(self, steps: int, order: int = 6) -> tuple[np.ndarray, float]:
         """Terms of the balanced system matrix at the Gauss angles of ``steps`` steps of
@@ -252,7 +236,7 @@ class MagnusLadder:
         return steps * ((_STEP_PRODUCTS[order] + squarings) * product + _STEP_SETUP)
 
     def first_rungs(self, omegas: np.ndarray, order: int = 6) -> np.ndarray:
-        """Steps (S,) of a pilot's first rung: START / 2, or more (up to FIRST_MAX) where
+        """Steps (S,) of a speed's first rung: START / 2, or more (up to FIRST_MAX) where
         the balanced step generator would exceed FIRST_RHO."""
         rho = self.scale * self.span / (np.asarray(omegas, float) * self.FIRST_RHO)
         steps = 2 ** np.ceil(np.log2(np.clip(rho, 1.0, self.FIRST_MAX))).astype(np.int64)
@@ -264,12 +248,23 @@ class MagnusLadder:
         per_step = (order // 2) * (2 * self.n) ** 2 * max(X.shape[-1] for X in self.spectra[1:])
         return int(min(self.LARGEST, 2 ** np.floor(np.log2(max(2.0, self.TERMS_ENTRIES / per_step)))))
 
+    def orders_at(self, omegas: np.ndarray) -> np.ndarray:
+        """Magnus order (S,) per speed: with both orders, 4 where the first rung of order 6
+        has at least STIFF steps (stiff element models: there order 4 certifies with fewer
+        steps, as its error is smaller at the same steps), else 6."""
+        if len(self.orders) == 1:
+            return np.full(np.size(omegas), self.orders[0])
+        return np.where(self.first_rungs(omegas, 6) >= self.STIFF, 4, 6)
+
     def first_cost(self, omegas: np.ndarray) -> np.ndarray:
-        """Estimated seconds (S,) of a pilot's first comparison (its first two rungs) in
-        the ladder's first order."""
-        order = self.orders[0]
-        first = self.first_rungs(omegas, order)
-        return self.cost(omegas, first, order) + self.cost(omegas, 2 * first, order)
+        """Estimated seconds (S,) of the first comparison (first two rungs) per speed."""
+        w = np.asarray(omegas, float)
+        total = np.zeros(w.size)
+        for order in self.orders:
+            mine = self.orders_at(w) == order
+            first = self.first_rungs(w[mine], order)
+            total[mine] = self.cost(w[mine], first, order) + self.cost(w[mine], 2 * first, order)
+        return total
 
     def _moduli(self, omegas: np.ndarray, steps: int, order: int) -> tuple[np.ndarray, np.ndarray]:
         """Exponents (S, 2n) and sorted multiplier moduli (S, 2n) with ``steps`` steps
@@ -301,31 +296,9 @@ class MagnusLadder:
         S = w.size
         budget = np.broadcast_to(np.asarray(budget, float), (S,))
         out = self._empty(S)
-        ranked = np.argsort(w, kind="stable")
-        pilots = np.unique(np.r_[ranked[:: self.PILOT], ranked[-1:]])
-        best = np.full(S, np.inf)
-        for order in self.orders if S >= self.PILOT else self.orders[:1]:  # the order certified at the least cost
-            trial = self._empty(S)
-            spent = self._climb(w, budget, pilots, self.first_rungs(w, order), trial, order)
-            better = trial.accepted & (spent < best) | (~out.accepted & ~trial.accepted & (trial.steps > 0)
-                                                         & (out.steps == 0))
-            better[np.setdiff1d(np.arange(S), pilots)] = False
-            best[better & trial.accepted] = spent[better & trial.accepted]
-            for name in MagnusEstimate.__dataclass_fields__:
-                getattr(out, name)[better] = getattr(trial, name)[better]
-        rest = np.setdiff1d(np.arange(S), pilots)
-        if rest.size:
-            logs = np.log(w[pilots])
-            at = np.clip(np.searchsorted(logs, np.log(w[rest])), 1, max(1, pilots.size - 1))
-            below, above = np.maximum(at - 1, 0), np.minimum(at, pilots.size - 1)
-            near = np.where(np.abs(np.log(w[rest]) - logs[below]) <= np.abs(np.log(w[rest]) - logs[above]),
-                            pilots[below], pilots[above])
-            for order in self.orders:
-                mine = rest[np.where(out.order[near] == 0, self.orders[0], out.order[near]) == order]
-                mine_near = near[np.isin(rest, mine)]
-                first = self.first_rungs(w, order)
-                first[mine] = np.maximum(first[mine], out.steps[mine_near] // (4 if order == 6 else 2))
-                self._climb(w, budget, mine, first, out, order)
+        for order in self.orders:
+            mine = np.nonzero(self.orders_at(w) == order)[0]
+            self._climb(w, budget, mine, self.first_rungs(w, order), out, order)
         return out
 
     def _climb(self, w, budget, idx, first, out, order) -> np.ndarray:
