@@ -9,7 +9,6 @@ from periodyn.examples.slider_crank import first_bending_frequency, slider_crank
 from periodyn.harmonic import HarmonicOperator
 from periodyn.hill import choose_method, operator_exponents
 from periodyn.linearize import omega_split
-from periodyn.timedomain import monodromy_exponents
 
 
 def test_auto_takes_sparse_for_a_large_soft_system_and_dense_for_a_stiff_one():
