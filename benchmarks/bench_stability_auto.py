@@ -9,8 +9,13 @@
 2. With --sweep: periodyn.sweep of 1000 speeds (fewer for the large model), default
    options (stability "auto"), on --workers processes, speeds/s (a cold start included
    when run first).
+3. With --per-speed: stability alone, ms per speed on one core, of the certified Magnus
+   ladder as "auto" uses it (both orders, chosen per speed), of order 6 alone,
+   of order 4 alone (the previous ladder's integrator) and of dense Hill at m = 12 (stacked), best of interleaved rounds on the same speeds, with the ladders' steps
+   and whether all give the same verdicts (pendulum, slider-crank 2 and 8 rod elements,
+   Cardan shaft).
 
-Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick] [--sweep] [--workers 2]
+Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick] [--sweep] [--workers 2] [--per-speed]
 """
 
 import os
@@ -27,8 +32,9 @@ import periodyn  # noqa: E402
 from periodyn.analysis import SpeedSolver  # noqa: E402
 from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
 from periodyn.config import load_sweep_file, project_root  # noqa: E402
-from periodyn.hill import _shift_frequencies, method_costs  # noqa: E402
+from periodyn.hill import _shift_frequencies, dense_exponents_batch, method_costs  # noqa: E402
 from periodyn.linearize import omega_split  # noqa: E402
+from periodyn.magnus import MagnusLadder  # noqa: E402
 
 METHODS = ("dense", "sparse", "magnus", "auto")
 
@@ -99,13 +105,57 @@ def sweep_rates(workers: int, rounds: int = 1) -> None:
                   f"{ds.attrs['stability_methods'].split(';')[0]}", flush=True)
 
 
+def per_speed(rounds: int = 3, m: int = 12) -> None:
+    """Stability alone per speed: Magnus ladders of order 6 and 4 against stacked dense Hill."""
+    w0 = periodyn.examples.pendulum().metadata["omega0"]
+    cardan = periodyn.examples.cardan_shaft()
+    wb = cardan.metadata["omega_b"]
+    cases = [("pendulum", periodyn.examples.pendulum(samples=64), np.linspace(0.1, 1.4, 64) * w0),
+             ("slider-crank", periodyn.examples.slider_crank(damping=0.02), np.linspace(150.0, 300.0, 32)),
+             ("cardan", cardan, np.linspace(0.02, 0.999, 32) * wb),
+             ("slider-crank x8", scaled_slider_crank(8), np.linspace(150.0, 300.0, 8))]
+    print(f"\nstability alone, ms per speed, one core; dense Hill at m = {m}")
+    print(f"{'model':<18}{'n':>4}{'speeds':>7}{'ladder':>9}{'magnus6':>9}{'magnus4':>9}{'dense':>10}{'lad/4':>7}"
+          f"{'lad/dense':>10}   steps ladder / 6 / 4 (median/max)   orders   same verdicts")
+    for name, model, w in cases:
+        ladders = {k: MagnusLadder(*model._power_spectra[:3], order=k) for k in (None, 6, 4)}
+        solver = SpeedSolver(model, m, method="dense")
+        arms = {"ladder": lambda: ladders[None].solve(w, np.inf), "magnus6": lambda: ladders[6].solve(w, np.inf),
+                "magnus4": lambda: ladders[4].solve(w, np.inf),
+                "dense": lambda: dense_exponents_batch(solver.harmonic.real_first_order_many(w), w, m, model.n)[0]}
+        results = {k: f() for k, f in arms.items()}  # warm-up (jit, cached terms)
+        best = {k: np.inf for k in arms}
+        for _ in range(rounds):
+            for k, f in arms.items():
+                t0 = time.perf_counter()
+                f()
+                best[k] = min(best[k], (time.perf_counter() - t0) / w.size)
+        period = 2 * np.pi / w
+        magnus = ("ladder", "magnus6", "magnus4")
+        verdicts = [results[k].exponents.real.max(axis=1) * period <= 1e-6 for k in magnus]
+        dense = results["dense"].real.max(axis=1) * period <= 1e-6
+        certified = np.logical_and.reduce([results[k].accepted for k in magnus])
+        same = int(np.logical_and.reduce([v == dense for v in verdicts])[certified].sum())
+        steps = " ".join(f"{int(np.median(results[k].steps))}/{results[k].steps.max()}" for k in magnus)
+        orders = results["ladder"].order.tolist()
+        used = "/".join(f"{k}:{orders.count(k)}" for k in (6, 4) if orders.count(k))
+        ms = {k: 1e3 * v for k, v in best.items()}
+        print(f"{name:<18}{model.n:4d}{w.size:7d}{ms['ladder']:9.3f}{ms['magnus6']:9.3f}{ms['magnus4']:9.3f}"
+              f"{ms['dense']:10.3f}{ms['ladder'] / ms['magnus4']:7.2f}{ms['ladder'] / ms['dense']:10.3f}   "
+              f"{steps:<33}{used:<10}{same}/{int(certified.sum())} certified", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--budget", type=float, default=3.0, help="seconds per method and case")
     ap.add_argument("--quick", action="store_true", help="fewer cases")
     ap.add_argument("--sweep", action="store_true", help="also time periodyn.sweep of 1000 speeds")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--per-speed", action="store_true", help="only the stability-alone table per speed")
     args = ap.parse_args()
+    if args.per_speed:
+        per_speed()
+        return
     if args.sweep:
         sweep_rates(args.workers)
     print(f"{'model':<18}{'n':>4}{'m':>4}" + "".join(f"{k:>10}" for k in METHODS)

@@ -26,8 +26,8 @@ from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import synthesize
 from .system import OmegaSplitModel, RheoLinear
-from .timedomain import (MagnusLadder, gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array,
-                         monodromy_exponents)
+from .magnus import MagnusLadder, gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array
+from .timedomain import monodromy_exponents
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
 

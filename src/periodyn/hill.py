@@ -17,9 +17,9 @@ method="sparse": ARPACK on the shift-invert operator ``(A - s B)^-1 B`` around s
 using one sparse LU of the (2m+1)n matrix ``W + s V + s^2 Mh``; more eigenvalues are
 requested until 2n distinct clusters are found. method="dense": all eigenvalues of the
 real form of A (LAPACK; for a chunk of speeds one stacked call, :func:`dense_exponents_batch`).
-For a system (:func:`characteristic_exponents`) method="auto" takes the 4th-order Magnus
+For a system (:func:`characteristic_exponents`) method="auto" takes the 6th-order Magnus
 monodromy with step doubling where its error estimate certifies the verdict at less than
-the estimated cost of Hill (:func:`auto_exponents`, :class:`periodyn.timedomain.MagnusLadder`),
+the estimated cost of Hill (:func:`auto_exponents`, :class:`periodyn.magnus.MagnusLadder`),
 else the cheaper Hill method by estimated cost (:func:`choose_method`); on an operator or
 spectra alone, "auto" is that Hill choice. The choice and its reason are kept on the
 result. method="monodromy": direct integration over one period (periodyn.timedomain).
@@ -43,7 +43,8 @@ from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.pattern import BlockPattern, from_real_basis
 from .kernels.floquet import select_clusters, select_clusters_batch
 from .system import RheoLinear
-from .timedomain import MagnusLadder, monodromy_exponents
+from .magnus import MagnusLadder
+from .timedomain import monodromy_exponents
 
 __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method",
            "method_costs", "hill_cost", "auto_exponents"]
@@ -127,8 +128,8 @@ HILL_TIME_FACTOR = 4.0
 def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float) -> str:
     """Why "auto" took Magnus or Hill at speed i of a :class:`MagnusEstimate`."""
     if est.accepted[i]:
-        return (f"Magnus with {est.steps[i]} steps: estimated error {est.error[i]:.1g} (tolerance {STABILITY_TOL:g}) "
-                f"and verdict margin {est.margin[i]:.2g}; estimated {first_cost:.2g} s vs {hill} Hill "
+        return (f"Magnus of order {est.order[i]} with {est.steps[i]} steps: estimated error {est.error[i]:.1g} "
+                f"(tolerance {STABILITY_TOL:g}) and verdict margin {est.margin[i]:.2g}; estimated {first_cost:.2g} s vs {hill} Hill "
                 f"{hill_seconds:.2g} s")
     if est.steps[i] == 0:
         return f"{hill} Hill: estimated {hill_seconds:.2g} s <= Magnus {first_cost:.2g} s"
@@ -140,8 +141,9 @@ def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float
 def auto_exponents(system: RheoLinear, op: HillOperator) -> FloquetExponents:
     """Stability method "auto" at one system: Magnus with step doubling where its error
     estimate certifies the verdict within the estimated cost of the cheaper Hill method
-    (:class:`periodyn.timedomain.MagnusLadder`), else that Hill method; the choice and
-    its reason are on the result."""
+    (:class:`periodyn.magnus.MagnusLadder`), else that Hill method; the choice and its
+    reason are on the result (the same rule as the speed solver's, which builds the
+    ladder once per model)."""
     hill, seconds, _ = hill_cost(op)
     S = system.spectra
     ladder = MagnusLadder(S.mass, S.damping[..., None], S.stiffness[..., None])

@@ -8,7 +8,7 @@ import periodyn
 from periodyn.examples.chain import parametric_chain
 from periodyn.harmonic import HarmonicOperator
 from periodyn.hill import _dense_eigs, select_representatives
-from periodyn.kernels.floquet import _expm, magnus_monodromies, magnus_product
+from periodyn.kernels.floquet import _expm, magnus6_product, magnus_monodromies, magnus_product
 from periodyn.timedomain import gauss_angles, magnus_terms, magnus_transition
 
 RNG = np.random.default_rng(11)
@@ -54,6 +54,21 @@ def magnus_twin(A, h):
     return phi
 
 
+def magnus6_twin(A, h):
+    """6th-order Magnus transition (three Gauss points a step) with scipy's expm per step."""
+    phi = np.eye(A.shape[1])
+
+    def comm(X, Y):
+        return X @ Y - Y @ X
+
+    for A1, A2, A3 in zip(A[0::3], A[1::3], A[2::3]):
+        a1, a2, a3 = h * A2, np.sqrt(15) / 3 * h * (A3 - A1), 10 / 3 * h * (A3 - 2 * A2 + A1)
+        C1 = comm(a1, a2)
+        C2 = -comm(a1, 2 * a3 + C1) / 60
+        phi = sla.expm(a1 + a3 / 12 + comm(-20 * a1 - a3 + C1, a2 + C2) / 240) @ phi
+    return phi
+
+
 # ----------------------------------------------------------------------------- tests
 @pytest.mark.parametrize("d,norm", [(2, 0.1), (5, 0.49), (8, 3.0), (8, 40.0)])
 def test_expm_matches_scipy(d, norm):
@@ -91,6 +106,23 @@ def test_magnus_product_matches_twin_and_batch_matches_single():
                                    np.sort_complex(np.linalg.eigvals(single)), atol=1e-10)
         D = np.r_[np.full(4, a), np.ones(4)]
         np.testing.assert_allclose(unbalanced, single * D[None, :] / D[:, None], atol=1e-9 * np.abs(unbalanced).max())
+
+
+def test_magnus6_product_matches_twin_and_batch_matches_single():
+    model = periodyn.examples.slider_crank(damping=0.02, samples=64)
+    steps = 48
+    terms, a = magnus_terms(*(periodyn.spectra.synthesize(X, gauss_angles(steps, points=3))
+                              for X in model._power_spectra[:3]))
+    omegas = np.array([150.0, 230.0])
+    batch = np.empty((2, 8, 8))
+    magnus_monodromies(terms, omegas, batch, 3)
+    for w, phi_batch in zip(omegas, batch):
+        A = terms[0] + w * terms[1] + w * w * terms[2]
+        h = 2 * np.pi / (w * steps)
+        single = np.empty((8, 8))
+        magnus6_product(A, h, single)
+        np.testing.assert_array_equal(single, phi_batch)
+        np.testing.assert_allclose(single, magnus6_twin(A, h), atol=1e-11 * np.abs(single).max())
 
 
 @pytest.mark.parametrize("builder,m,speeds", [

@@ -9,7 +9,6 @@ from periodyn.examples.slider_crank import first_bending_frequency, slider_crank
 from periodyn.harmonic import HarmonicOperator
 from periodyn.hill import choose_method, operator_exponents
 from periodyn.linearize import omega_split
-from periodyn.timedomain import monodromy_exponents
 
 
 def test_auto_takes_sparse_for_a_large_soft_system_and_dense_for_a_stiff_one():
@@ -28,14 +27,17 @@ def test_auto_takes_sparse_for_a_large_soft_system_and_dense_for_a_stiff_one():
 
 def test_auto_records_its_choice_and_equals_the_chosen_method():
     """On the pendulum auto takes Magnus (certified by step doubling, cheaper than dense
-    Hill): the same exponents as the Magnus monodromy with the steps it used."""
+    Hill): the same exponents as the fixed-step Magnus monodromy of the order and steps it
+    used, per call and in the speed solver."""
     model = periodyn.examples.pendulum(samples=36)
     w = 0.8 * model.metadata["omega0"]
     auto = periodyn.characteristic_exponents(model.at(w), 8)
-    assert auto.method == "magnus" and "Magnus with 32 steps" in auto.reason and "dense Hill" in auto.reason
-    chosen = monodromy_exponents(model.at(w), "magnus", steps=32)
-    np.testing.assert_allclose(auto.exponents, chosen.exponents, rtol=1e-12)
-    method, reason = SpeedSolver(model, 8).stability_methods([w])[0]  # same rule, same steps
+    assert auto.method == "magnus" and auto.reason.startswith("Magnus of order 6 with ") and "dense Hill" in auto.reason
+    steps = int(auto.reason.split(" with ")[1].split()[0])
+    solver = SpeedSolver(model, 8)
+    chosen, _ = solver.ladder._moduli(np.array([w]), steps, 6)
+    np.testing.assert_allclose(auto.exponents, chosen[0], rtol=1e-12)
+    method, reason = solver.stability_methods([w])[0]  # same rule, same steps
     assert method == "magnus" and reason.split(":")[0] == auto.reason.split(":")[0]
     hill = SpeedSolver(model, 8).hill_methods([w])[0]
     assert hill[0] == "dense" and "estimated dense" in hill[1]

@@ -5,7 +5,12 @@
   2010, with the duplicate test of :mod:`periodyn.hill`).
 * ``magnus_product`` / ``magnus_monodromies``: the 4th-order Magnus integrator with two
   Gauss points per step, ``Phi <- exp(h/2 (A1 + A2) + sqrt(3)/12 h^2 [A2, A1]) Phi``,
-  for one transition or for the monodromy matrices of many speeds at once.
+  for one transition or for the monodromy matrices of many speeds at once;
+  ``magnus6_product`` and ``magnus_monodromies(..., points=3)``: the 6th-order Magnus
+  integrator with three Gauss points per step (Blanes, Casas & Ros 2000, in the form of
+  Blanes, Casas, Oteo & Ros 2009, eq. 253): with a1 = h A2, a2 = sqrt(15)/3 h (A3 - A1),
+  a3 = 10/3 h (A3 - 2 A2 + A1), C1 = [a1, a2], C2 = -[a1, 2 a3 + C1] / 60,
+  ``Omega = a1 + a3 / 12 + [-20 a1 - a3 + C1, a2 + C2] / 240`` (six products a step).
 
 Matrix exponentials of the small step generators use scaling and squaring with the
 degree-12 Taylor polynomial (truncation below the unit round-off) evaluated by the
@@ -19,6 +24,7 @@ from numba import njit
 
 _TAYLOR = np.array([1.0 / np.prod(np.arange(1.0, k + 1.0)) for k in range(13)])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
+_SQRT15_3 = np.sqrt(15.0) / 3.0
 _BLAS_MIN = 16  # matrix size from which _matmul calls BLAS
 
 
@@ -161,14 +167,68 @@ def magnus_product(A, h, phi):
 
 
 @njit(cache=True)
-def magnus_monodromies(terms, omegas, out):
+def _commutator(X, Y, out, tmp):
+    """out = X Y - Y X (tmp: scratch)."""
+    _matmul(X, Y, out)
+    _matmul(Y, X, tmp)
+    out -= tmp
+
+
+@njit(cache=True)
+def magnus6_product(A, h, phi):
+    """Transition matrix over ``A.shape[0] // 3`` equal steps h (s) of y' = A(t) y by the
+    6th-order Magnus integrator (module docstring).
+
+    A: (3 steps, d, d) float64, the system matrix at the three Gauss points of each step;
+    phi: (d, d) output, the transition matrix from the start (phi(0) = I)."""
+    d = A.shape[1]
+    w = np.empty((6, d, d))
+    a1, a2, a3 = np.empty((d, d)), np.empty((d, d)), np.empty((d, d))
+    C, X, Y, G, E, tmp = (np.empty((d, d)), np.empty((d, d)), np.empty((d, d)), np.empty((d, d)),
+                          np.empty((d, d)), np.empty((d, d)))
+    other = np.empty((d, d))
+    current = phi
+    current[:, :] = 0.0
+    for i in range(d):
+        current[i, i] = 1.0
+    steps = A.shape[0] // 3
+    for step in range(steps):
+        A1, A2, A3 = A[3 * step], A[3 * step + 1], A[3 * step + 2]
+        for i in range(d):
+            for j in range(d):
+                a1[i, j] = h * A2[i, j]
+                a2[i, j] = _SQRT15_3 * h * (A3[i, j] - A1[i, j])
+                a3[i, j] = (10.0 / 3.0) * h * (A3[i, j] - 2.0 * A2[i, j] + A1[i, j])
+        _commutator(a1, a2, C, tmp)  # C1
+        for i in range(d):
+            for j in range(d):
+                X[i, j] = 2.0 * a3[i, j] + C[i, j]
+        _commutator(a1, X, Y, tmp)  # -60 C2
+        for i in range(d):
+            for j in range(d):
+                X[i, j] = -20.0 * a1[i, j] - a3[i, j] + C[i, j]
+                Y[i, j] = a2[i, j] - Y[i, j] / 60.0
+        _commutator(X, Y, C, tmp)
+        for i in range(d):
+            for j in range(d):
+                G[i, j] = a1[i, j] + a3[i, j] / 12.0 + C[i, j] / 240.0
+        _expm(G, E, w)
+        _matmul(E, current, other)  # ping-pong between phi and a scratch matrix
+        current, other = other, current
+    if steps % 2 == 1:
+        phi[:, :] = current
+
+
+@njit(cache=True)
+def magnus_monodromies(terms, omegas, out, points=2):
     """Monodromy matrices of y' = A(theta, omega) y, theta = omega t, at many speeds.
 
-    terms: (P, 2 steps, d, d) float64 with A = sum_p omega^p terms[p] at the Gauss angles
-    of equal steps over one period (periodyn.timedomain.gauss_angles); omegas: (S,) rad/s;
-    out: (S, d, d), filled with the transition matrices over T = 2 pi / omega."""
+    terms: (P, points steps, d, d) float64 with A = sum_p omega^p terms[p] at the Gauss
+    angles of equal steps over one period (periodyn.timedomain.gauss_angles); omegas: (S,)
+    rad/s; out: (S, d, d), filled with the transition matrices over T = 2 pi / omega;
+    points: 2 (4th-order Magnus) or 3 (6th order)."""
     n_terms, n_points, d = terms.shape[0], terms.shape[1], terms.shape[2]
-    steps = n_points // 2
+    steps = n_points // points
     for s in range(omegas.shape[0]):  # parallelism is across speed chunks (sweep workers)
         w = omegas[s]
         A = terms[0].copy()
@@ -179,7 +239,10 @@ def magnus_monodromies(terms, omegas, out):
                 for i in range(d):
                     for j in range(d):
                         A[g, i, j] += power * terms[p, g, i, j]
-        magnus_product(A, 2.0 * np.pi / (w * steps), out[s])
+        if points == 3:
+            magnus6_product(A, 2.0 * np.pi / (w * steps), out[s])
+        else:
+            magnus_product(A, 2.0 * np.pi / (w * steps), out[s])
 
 
 @njit(cache=True)
