@@ -1,13 +1,14 @@
 """The transfer function ``x = F(q)`` of an element model (Schwab & Meijaard 2001, eq. 3,
 5-9): Newton solution of the constraint equations ``Phi(x) = b(q)`` (:mod:`.constraints`),
 continuation along a path of inputs, and the derivatives of F by implicit
-differentiation (LU solves with the constraint Jacobian, never its inverse).
+differentiation (solves with the constraint Jacobian factored once, never its inverse).
 """
 
 import numpy as np
 from numba import njit
 
 from .constraints import allocate_equations, along, contract2, equations
+from .lu import factor, lu_solve
 
 @njit(cache=True)
 def newton(arr, x, b, tol, max_iter):
@@ -80,38 +81,45 @@ def track(arr, x0, q0, q_targets, tol, max_iter, max_halvings, X, info):
 @njit(cache=True)
 def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
     """The part of :func:`motion` that reduced_sample needs (no F_{q^d q^d}): overwrites
-    v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by LU solves with the constraint Jacobian J
-    (never its inverse). Returns the element tensors D, Dx, Dxx and J (n_x, n_x)."""
+    v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by solves with the constraint Jacobian J,
+    factored once (:mod:`.lu`, never its inverse). Returns the element tensors D, Dx, Dxx
+    and the factors (LU, piv) of J."""
     n = x.shape[0]
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
-    Fq = np.linalg.solve(J, arr.rhs_q)
+    LU, piv = factor(J)
+    Fq = arr.rhs_q.copy()
+    lu_solve(LU, piv, Fq)
     nr = arr.n_input
     nd = Fq.shape[1] - nr
     v[:] = Fq @ qdot
-    tmp = np.empty(n)
-    contract2(arr, Dxx, v, v, tmp)
-    a[:] = Fq @ qddot - np.linalg.solve(J, tmp)
+    tmp = np.empty((n, 1))
+    contract2(arr, Dxx, v, v, tmp[:, 0])
+    lu_solve(LU, piv, tmp)
+    a[:] = Fq @ qddot - tmp[:, 0]
     FdT = np.ascontiguousarray(Fq[:, nr:].T)  # (nd, n): rows are the columns of F_q^d
     Fd[:] = FdT.T
     rhs_v = np.empty((n, nd))  # implicit differentiation, one column per dynamic coordinate
     col = np.empty(n)
     for i in range(nd):
         contract2(arr, Dxx, FdT[i], v, col)
-        rhs_v[:, i] = col
-    Fdv[:] = -np.linalg.solve(J, rhs_v)
+        rhs_v[:, i] = -col
+    lu_solve(LU, piv, rhs_v)
+    Fdv[:] = rhs_v
     FdvT = np.ascontiguousarray(Fdv.T)
     rhs_a = np.empty((n, nd))
     tmp2 = np.empty(n)
+    ta = np.empty(n)
     Dv = np.empty(Dxx.shape)
     along(arr, Dxxx, v, Dv)
     for i in range(nd):
         contract2(arr, Dv, FdT[i], v, col)
-        contract2(arr, Dxx, FdT[i], a, tmp)
+        contract2(arr, Dxx, FdT[i], a, ta)
         contract2(arr, Dxx, FdvT[i], v, tmp2)
-        rhs_a[:, i] = col + tmp + 2.0 * tmp2
-    Fda[:] = -np.linalg.solve(J, rhs_a)
-    return D, Dx, Dxx, J
+        rhs_a[:, i] = -(col + ta + 2.0 * tmp2)
+    lu_solve(LU, piv, rhs_a)
+    Fda[:] = rhs_a
+    return D, Dx, Dxx, LU, piv
 
 
 @njit(cache=True)
@@ -123,14 +131,15 @@ def motion(arr, x, qdot, qddot, v, a, Fd, Fdv, Fdd, Fda):
     Fda = F_{q^d q} qddot + F_{q^d q q} qdot qdot (n_x, n_d)."""
     n = x.shape[0]
     nd = Fd.shape[1]
-    D, Dx, Dxx, J = rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda)
+    D, Dx, Dxx, LU, piv = rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda)
     FdT = np.ascontiguousarray(Fd.T)
     rhs_dd = np.empty((n, nd * nd))
     col = np.empty(n)
     for i in range(nd):
         for j in range(i, nd):
             contract2(arr, Dxx, FdT[i], FdT[j], col)
-            rhs_dd[:, i * nd + j] = col
-            rhs_dd[:, j * nd + i] = col
-    Fdd[:] = (-np.linalg.solve(J, rhs_dd)).reshape(n, nd, nd)
+            rhs_dd[:, i * nd + j] = -col
+            rhs_dd[:, j * nd + i] = -col
+    lu_solve(LU, piv, rhs_dd)
+    Fdd[:] = rhs_dd.reshape(n, nd, nd)
     return D, Dx, Dxx
