@@ -223,6 +223,8 @@ class SpeedSolver:
                         3 * N * self.pattern.half_bandwidth + N)
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
+        if len(parts) == 1:
+            return parts[0]
         return SpeedBatch(w, self.model.output_names,
                           *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
                             if f not in ("omega", "output_names")))

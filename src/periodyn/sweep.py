@@ -144,7 +144,9 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         for chunk in checkpoint.chunks():
             collected.add(chunk)
     pending = np.flatnonzero(~collected.done)
-    size = execution.chunk_size or max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
+    # several chunks per worker balance the load; one process takes the largest chunks
+    size = execution.chunk_size or (_MAX_CHUNK if backend == "serial" else
+                                    max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers)))))
     chunks = split(pending, size)
 
     if progress is not False and not callable(progress) and len(pending) and not kernels_cached():

@@ -18,14 +18,18 @@ from periodyn.config import load_sweep_file
 from periodyn.examples import pendulum
 from periodyn.sweep import ExecutionOptions, sweep, sweep_file
 
-KILL_SWEEP = """
+# long enough (dense Hill, ~10 s on one core) that the sweep is still running once its worker
+# has started: the sweep's own process never waits for a worker still starting
+SPEEDS = 6000
+KILL_SWEEP = f"""
 description = "sweep that is killed mid-run by the test"
 [model]
 example = "pendulum"
 [sweep]
-omega = { start = 0.05, stop = 1.4, num = 4000, unit = "omega0" }
+omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
 harmonics = 10
 samples = 48
+method = "dense"
 """
 CHUNK = 20
 
@@ -65,7 +69,7 @@ def test_sigkill_mid_sweep_then_resume_equals_uninterrupted(tmp_path):
     proc.wait()
     assert proc.returncode == -signal.SIGKILL
     done_before = len(list(parts.glob("chunk-*.npz")))
-    assert not out.exists() and 3 <= done_before < 4000 // CHUNK
+    assert not out.exists() and 3 <= done_before < SPEEDS // CHUNK
 
     spec = load_sweep_file(sweep_path)
     progress = []

@@ -17,7 +17,7 @@ import hashlib
 import multiprocessing
 import os
 import threading
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
 from typing import Iterator
 
 import cloudpickle
@@ -30,6 +30,7 @@ from .threads import WORKER_THREAD_ENV, limit_threads, one_thread, worker_enviro
 __all__ = ["BACKENDS", "run_serial", "run_processes", "run_dask"]
 
 _WORKER_JOB: Job | None = None
+_POLL = 0.005  # s between checks of the pool-feeding thread
 _DASK_JOBS: dict[str, Job] = {}
 
 
@@ -83,12 +84,19 @@ def _process_context():
     return context
 
 
+def _ready() -> None:
+    """A task that returns once a worker has started (imports, job loaded)."""
+
+
 class _Pool:
     """Local worker processes fed from the front of the chunk list, started by a thread so
     that this process can solve chunks from the back meanwhile (:func:`run_processes`).
-    ``take()`` hands this process the last chunk no worker has started: one not yet
-    submitted, or a submitted one whose future can still be cancelled (the pool runs its
-    queue in order, so once the last submitted chunk runs, every earlier one does)."""
+    Chunks go to the workers only once one of them is up, and at most ``2 * processes``
+    at a time, so this process never waits for a worker that is still starting: a sweep
+    that ends before then is solved here alone. ``take()`` hands this process the last
+    chunk no worker has started: one not yet submitted, or a submitted one whose future
+    can still be cancelled (the pool runs its queue in order, so once the last submitted
+    chunk runs, every earlier one does)."""
 
     def __init__(self, job: Job, chunks: list[np.ndarray], processes: int):
         self.chunks, self.processes = chunks, processes
@@ -96,24 +104,37 @@ class _Pool:
         self.submitted: list = []
         self.lock = threading.Lock()
         self.pool: ProcessPoolExecutor | None = None
+        self.ready = None  # the future of _ready
         self.error: BaseException | None = None
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
 
+    def _left(self) -> bool:
+        with self.lock:
+            return self.front < self.back
+
     def _feed(self, payload: bytes) -> None:
         try:
-            with worker_environment():
+            with worker_environment():  # the processes start with the first submission
                 self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=_process_context(),
                                                 initializer=_init_worker, initargs=(payload,))
-                while True:
-                    with self.lock:
-                        if self.front >= self.back:
-                            return
-                        i, self.front = self.front, self.front + 1
-                    future = self.pool.submit(_solve_in_worker, self.chunks[i])  # the first waits for a start
-                    with self.lock:
-                        self.submitted.append(future)
+                self.ready = self.pool.submit(_ready)
+            while self._left() and wait([self.ready], timeout=_POLL).not_done:
+                pass
+            while self._left():
+                with self.lock:
+                    busy = [f for f in self.submitted if not f.done()]
+                if len(busy) >= 2 * self.processes:
+                    wait(busy, timeout=_POLL, return_when=FIRST_COMPLETED)
+                    continue
+                with self.lock:
+                    if self.front >= self.back:
+                        return
+                    i, self.front = self.front, self.front + 1
+                future = self.pool.submit(_solve_in_worker, self.chunks[i])
+                with self.lock:
+                    self.submitted.append(future)
         except BaseException as exc:  # re-raised in the sweep's thread
             self.error = exc
 
@@ -147,8 +168,8 @@ class _Pool:
         with self.lock:
             self.back = self.front  # nothing more to submit
         self.thread.join()
-        if self.pool is not None:
-            self.pool.shutdown(wait=True, cancel_futures=True)
+        if self.pool is not None:  # a worker still starting is not waited for: it exits when up
+            self.pool.shutdown(wait=self.ready is not None and self.ready.done(), cancel_futures=True)
 
 
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:

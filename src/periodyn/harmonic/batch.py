@@ -12,9 +12,8 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
   real HB matrix is block-diagonal in these two classes (the couplings between them are
   below 1e-12 of the largest entry, i.e. round-off of the sampled spectra) and is solved
   as two systems of half the size, about a quarter of the work. A class the forcing does
-  not reach (zero force harmonics at every power of omega) has the zero solution and is
-  not solved: e.g. the even harmonics of the Cardan shaft's deflection and the odd ones
-  of its twist;
+  not reach (its force harmonics below 1e-12 of the largest at every power of omega) has
+  the zero solution and is not solved;
 - None: speed by speed with :func:`periodyn.hb.solve_balance` (banded LAPACK, dense or
   sparse LU, whichever :func:`periodyn.hb.balance_storage` estimates cheapest).
 
@@ -30,7 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..hb import amplification, balance_failure, balance_storage, singular_balance, solve_balance
+from ..hb import AMPLIFICATION_MAX, RESIDUAL_MAX, amplification, balance_failure, balance_storage, singular_balance, solve_balance
 from ..kernels.banded import banded_solve_batch
 from .operator import HarmonicOperator
 from .pattern import _real_form_indices, from_real_basis
@@ -83,10 +82,10 @@ class BalanceBatch:
             cross = max(np.abs(terms[:, a][:, :, b]).max(), np.abs(terms[:, b][:, :, a]).max())
             if cross > COUPLING_RTOL * np.abs(terms).max():
                 classes = (np.arange(terms.shape[1]),)
-        blocks = []
+        blocks, forcing = [], np.abs(rhs).max(axis=0)
         for rows in classes:
-            if len(classes) > 1 and not rhs[:, rows].any():
-                continue  # not forced: zero solution
+            if len(classes) > 1 and forcing[rows].max() <= COUPLING_RTOL * forcing.max():
+                continue  # not forced (round-off of the sampled force): zero solution
             sub = np.ascontiguousarray(terms[:, rows][:, :, rows]).reshape(len(terms), -1)
             blocks.append((rows, sub, np.ascontiguousarray(rhs[:, rows])))
         return tuple(blocks)
@@ -124,7 +123,8 @@ class BalanceBatch:
         residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
         row_scale, rhs = op.balance_scales_many(w)
         amplified = amplification(row_scale, q.reshape(w.size, -1), rhs)
-        for i in np.nonzero(message == "")[0]:
+        suspect = (message == "") & ~((residual <= RESIDUAL_MAX) & (amplified <= AMPLIFICATION_MAX))
+        for i in np.flatnonzero(suspect):
             message[i] = balance_failure(w[i], residual[i], amplified[i], kind)
         q[message != ""] = 0.0
         return q, residual, message
