@@ -152,7 +152,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
         print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
     with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-        for chunk in BACKENDS[backend](job, chunks, workers, execution.scheduler):
+        for chunk in BACKENDS[backend](job, chunks, workers, execution):
             collected.add(chunk)
             if checkpoint is not None:
                 checkpoint.write(chunk)

@@ -17,6 +17,7 @@ import hashlib
 import multiprocessing
 import os
 import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
 from typing import Iterator
 
@@ -25,6 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 from .job import Job
+from .options import ExecutionOptions
 from .threads import WORKER_THREAD_ENV, limit_threads, one_thread, worker_environment
 
 __all__ = ["BACKENDS", "run_serial", "run_processes", "run_dask"]
@@ -66,7 +68,7 @@ def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> di
 
 
 
-def run_serial(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
+def run_serial(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     with one_thread():  # for the whole run: entering costs a scan of the loaded libraries
         for chunk in chunks:
             yield job.solve(chunk)
@@ -168,15 +170,42 @@ class _Pool:
         with self.lock:
             self.back = self.front  # nothing more to submit
         self.thread.join()
-        if self.pool is not None:  # a worker still starting is not waited for: it exits when up
-            self.pool.shutdown(wait=self.ready is not None and self.ready.done(), cancel_futures=True)
+        if self.pool is None:
+            return
+        started = self.ready is not None and self.ready.done()
+        if not started:  # no chunk went to the workers: stop them rather than wait for their start
+            for process in list((getattr(self.pool, "_processes", None) or {}).values()):
+                process.terminate()
+        self.pool.shutdown(wait=started, cancel_futures=True)
 
 
-def run_processes(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
-    """``workers`` processes, this one included: ``workers - 1`` local worker processes
-    take chunks from the front while this process (one thread, as the serial path) solves
-    chunks from the back, so a short sweep does not wait for the workers to start."""
-    pool = _Pool(job, chunks, workers - 1)
+#: Seconds to start local workers, about: the first pool of a process starts the fork
+#: server, which imports periodyn and loads the compiled kernels; later pools fork from it
+START_COST = {"first": 2.0, "later": 0.2}
+_STARTED: list[bool] = []  # a pool was started in this process
+
+
+def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
+    """``workers`` processes, this one included. This process (one thread, as the serial
+    path) solves the last two chunks first and times the second; when the chunks left
+    would take it less than starting the workers (:data:`START_COST`), it solves them alone, else
+    ``workers - 1`` local worker processes take chunks from the front while it solves
+    chunks from the back, so a short sweep never waits for the workers to start
+    (``execution.eager_workers``: start them whatever the estimate)."""
+    with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
+        yield job.solve(chunks[-1])
+        estimate = 0.0
+        if len(chunks) > 1:
+            start = time.perf_counter()
+            yield job.solve(chunks[-2])
+            estimate = (time.perf_counter() - start) * (len(chunks) - 2)
+    if len(chunks) <= 2:
+        return
+    if not execution.eager_workers and estimate < START_COST["later" if _STARTED else "first"]:
+        yield from run_serial(job, chunks[:-2], workers, execution)
+        return
+    _STARTED.append(True)
+    pool = _Pool(job, chunks[:-2], workers - 1)
     try:
         with one_thread():
             while True:
@@ -221,10 +250,10 @@ def _dask_client(scheduler, workers: int):
     return client, [client]
 
 
-def run_dask(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
+def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     from distributed import as_completed as dask_as_completed
 
-    client, owned = _dask_client(scheduler, workers)
+    client, owned = _dask_client(execution.scheduler, workers)
     futures = []
     try:
         payload = cloudpickle.dumps(job)
