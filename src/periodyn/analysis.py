@@ -17,16 +17,16 @@ import numpy as np
 from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
-from .harmonic.pattern import from_real_basis
-from .hb import amplification, balance_failure, balance_storage, periodic_solution, singular_balance, solve_balance
+from .harmonic.batch import BalanceBatch
+from .hb import periodic_solution
 from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
                    dense_exponents_batch, hill_cost, magnus_reason, method_costs, operator_exponents)
-from .kernels.banded import banded_solve_batch
 from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import synthesize
 from .system import OmegaSplitModel, RheoLinear
-from .magnus import MagnusLadder, gauss_angles, magnus_steps, magnus_terms, monodromy_exponent_array
+from .magnus import (MagnusLadder, gauss_angles, half_period_signs, magnus_steps, magnus_terms,
+                     monodromy_exponent_array)
 from .timedomain import monodromy_exponents
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
@@ -134,9 +134,7 @@ class SpeedBatch:
 
 
 _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
-_DENSE_BALANCE_MAX = 400  # HB size up to which wide-band speeds are solved as stacked real dense systems
 _EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier exp(lambda T) is finite
-_JIT_BANDED_MAX = 20_000  # N u^2 up to which the jitted banded LU beats a LAPACK call per speed
 
 
 class SpeedSolver:
@@ -160,12 +158,12 @@ class SpeedSolver:
         self.form = form
         self.harmonic = op = HarmonicOperator.for_model(model, self.m, form)
         self.output_spectra = model._power_spectra[4]
-        self.pattern = pat = op.pattern
-        self.storage = balance_storage(pat)
+        self.pattern = op.pattern
         # HB per chunk of speeds: jitted banded LU for narrow small bands; stacked real dense
-        # LAPACK for small systems whose band is wide; otherwise speed by speed
-        self.batch_balance = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= _JIT_BANDED_MAX else
-                              "dense" if not pat.narrow and pat.size <= _DENSE_BALANCE_MAX else None)
+        # LAPACK (in half-period symmetry classes) for small systems whose band is wide;
+        # otherwise speed by speed
+        self.balance = BalanceBatch(op, half_period_signs(*model._power_spectra[:3]))
+        self.storage, self.batch_balance = self.balance.storage, self.balance.kind
         self.magnus = None
         if stability and self.method == "magnus":
             theta = gauss_angles(magnus_steps(model.samples))
@@ -226,56 +224,16 @@ class SpeedSolver:
                         3 * N * self.pattern.half_bandwidth + N)
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
+        if len(parts) == 1:
+            return parts[0]
         return SpeedBatch(w, self.model.output_names,
                           *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
                             if f not in ("omega", "output_names")))
 
     def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Harmonics (S, 2m+1, n) (zero where failed), relative HB residuals (S,) and
-        failure messages (S,) ('' where solved) at speeds w (S,): an exactly or nearly
-        singular HB matrix (an undamped resonance) or an inaccurate solve fails its own
-        speed (:func:`periodyn.hb.balance_failure`), never the chunk."""
-        m, n = self.m, self.model.n
-        message = np.full(w.size, "", dtype=object)
-        if self.batch_balance is None:
-            q, residual = np.zeros((w.size, 2 * m + 1, n), complex), np.full(w.size, np.nan)
-            for i, wi in enumerate(w):
-                try:
-                    row_scale = self.harmonic.balance_scales_many([wi])[0][0]
-                    q[i], residual[i] = solve_balance(self.harmonic.at(wi), self.storage, row_scale)
-                except (InputError, ConvergenceError) as exc:  # singular (InputError) or inaccurate
-                    message[i] = str(exc)
-            return q, residual, message
-        if self.batch_balance == "banded":
-            ab, b = self.harmonic.banded_many(w)
-            y, residual, failed = np.empty_like(b), np.empty(w.size), np.zeros(w.size, dtype=np.int64)
-            banded_solve_batch(ab, b, y, residual, failed)
-            for i in np.nonzero(failed)[0]:
-                message[i] = str(singular_balance(w[i], f"zero pivot in column {failed[i] - 1}"))
-            y[failed > 0] = 0.0
-            q = y.reshape(-1, 2 * m + 1, n)
-            q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
-        else:
-            A, b = self.harmonic.real_balance_many(w)
-            try:
-                y = np.linalg.solve(A, b[..., None])[..., 0]
-            except np.linalg.LinAlgError:  # one exactly singular speed: solve the others one by one
-                y = np.zeros_like(b)
-                for i in range(w.size):
-                    try:
-                        y[i] = np.linalg.solve(A[i], b[i])
-                    except np.linalg.LinAlgError:
-                        message[i] = str(singular_balance(w[i], "LAPACK gesv"))
-            residual = np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
-            q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
-        scale = np.linalg.norm(b, axis=1)
-        residual = np.where(scale > 0, residual / np.where(scale > 0, scale, 1.0), residual)
-        row_scale, rhs = self.harmonic.balance_scales_many(w)
-        amplified = amplification(row_scale, q.reshape(w.size, -1), rhs)
-        for i in np.nonzero(message == "")[0]:
-            message[i] = balance_failure(w[i], residual[i], amplified[i], self.batch_balance)
-        q[message != ""] = 0.0
-        return q, residual, message
+        """Harmonics (S, 2m+1, n), relative HB residuals (S,) and failure messages (S,)
+        at speeds w (S,) by the path ``batch_balance`` (:mod:`periodyn.harmonic.batch`)."""
+        return self.balance.solve_many(w, self.batch_balance)
 
     def _stability(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used

@@ -230,11 +230,11 @@ def to_dataset(columns: dict[str, np.ndarray], *, omega: np.ndarray, harmonics: 
                                             {"units": "1", "long_name": f"omega / {ref_name}",
                                              "reference_frequency": ref_value,
                                              "reference_frequency_units": "rad/s"})
-    variables = {}
+    variables, units_text = {}, _units_text(units)
     for name, dims, fill, var_attrs in _LAYOUT:
         values = columns[name].reshape(shape + columns[name].shape[1:])
         if isinstance(fill, str):
             values = values.astype(str)
-        filled = {k: (v.format(units=_units_text(units)) if isinstance(v, str) else v) for k, v in var_attrs.items()}
+        filled = {k: (v.format(units=units_text) if isinstance(v, str) else v) for k, v in var_attrs.items()}
         variables[name] = (base + dims, values, filled)
     return xr.Dataset(variables, coords=coords, attrs=dict(attrs or {}))

@@ -144,13 +144,15 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         for chunk in checkpoint.chunks():
             collected.add(chunk)
     pending = np.flatnonzero(~collected.done)
-    size = execution.chunk_size or max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
+    # several chunks per worker balance the load; one process takes the largest chunks
+    size = execution.chunk_size or (_MAX_CHUNK if backend == "serial" else
+                                    max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers)))))
     chunks = split(pending, size)
 
     if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
         print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
     with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-        for chunk in BACKENDS[backend](job, chunks, workers, execution.scheduler):
+        for chunk in BACKENDS[backend](job, chunks, workers, execution):
             collected.add(chunk)
             if checkpoint is not None:
                 checkpoint.write(chunk)

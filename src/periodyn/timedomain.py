@@ -10,7 +10,7 @@ Two monodromy integrators:
   damped element modes exactly in the frozen part and costs one batch of small matrix
   exponentials per speed (used by fast stability sweeps and the DAE stability analysis).
   It and the certified Magnus ladder of the stability method "auto" live in
-  :mod:`periodyn.magnus`; their names are re-exported here.
+  :mod:`periodyn.magnus`.
 """
 
 from __future__ import annotations
@@ -19,17 +19,14 @@ import numpy as np
 
 from .errors import ConvergenceError
 from .floquet import FloquetExponents
-from .magnus import (MagnusEstimate, MagnusLadder, gauss_angles, half_period_signs, magnus_steps, magnus_terms,
-                     magnus_transition, monodromy_exponent_array)
+from .magnus import gauss_angles, magnus_steps, magnus_transition, monodromy_exponent_array
 from .nonlinear.integrate import solve
 from .nonlinear.linear import ode
 from .nonlinear.variational import flow
 from .spectra import synthesize
 from .system import RheoLinear
 
-__all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "integrate", "gauss_angles",
-           "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array", "MagnusLadder",
-           "MagnusEstimate", "half_period_signs"]
+__all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "exponents_from_monodromy", "integrate"]
 
 RTOL, ATOL = 1e-11, 1e-13
 

@@ -9,7 +9,7 @@ from periodyn.examples.chain import parametric_chain
 from periodyn.harmonic import HarmonicOperator
 from periodyn.hill import _dense_eigs, select_representatives
 from periodyn.kernels.floquet import _expm, magnus6_product, magnus_monodromies, magnus_product
-from periodyn.timedomain import gauss_angles, magnus_terms, magnus_transition
+from periodyn.magnus import gauss_angles, magnus_terms, magnus_transition
 
 RNG = np.random.default_rng(11)
 

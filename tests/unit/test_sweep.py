@@ -135,7 +135,7 @@ def test_parallel_processes_identical_to_serial():
     grid = {"zeta": [0.01, 0.03]}
     serial = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, progress=False)
     parallel = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, workers=2,
-                     execution=ExecutionOptions(chunk_size=5), progress=False)
+                     execution=ExecutionOptions(chunk_size=5, eager_workers=True), progress=False)
     xr.testing.assert_identical(data_only(parallel), data_only(serial))
     assert parallel.attrs["backend"] == "processes" and parallel.attrs["workers"] == 2
 
@@ -153,7 +153,7 @@ def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
     assert len(list(parts.glob("chunk-*.npz"))) == 2 and not out.exists()
 
     with pytest.raises(InputError, match="--resume"):
-        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), progress=False)
+        sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5, eager_workers=True), progress=False)
     with pytest.raises(InputError, match="other settings"):
         sweep(model, OMEGA, M + 1, out=out, execution=ExecutionOptions(chunk_size=5), resume=True, progress=False)
 

@@ -10,7 +10,7 @@ import periodyn
 from periodyn.analysis import SpeedSolver
 from periodyn.config import load_sweep_file, project_root
 from periodyn.floquet import STABILITY_TOL
-from periodyn.timedomain import MagnusLadder
+from periodyn.magnus import MagnusLadder
 
 SHIPPED = ("pendulum", "slider_crank", "slider_crank_elements", "elliptic_pendulum_elements")
 

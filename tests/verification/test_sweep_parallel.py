@@ -15,17 +15,22 @@ import pytest
 import xarray as xr
 
 from periodyn.config import load_sweep_file
+from periodyn.engine import backends
 from periodyn.examples import pendulum
 from periodyn.sweep import ExecutionOptions, sweep, sweep_file
 
-KILL_SWEEP = """
+# long enough (dense Hill, ~10 s on one core) that the sweep is still running once its worker
+# has started: the sweep's own process never waits for a worker still starting
+SPEEDS = 6000
+KILL_SWEEP = f"""
 description = "sweep that is killed mid-run by the test"
 [model]
 example = "pendulum"
 [sweep]
-omega = { start = 0.05, stop = 1.4, num = 4000, unit = "omega0" }
+omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
 harmonics = 10
 samples = 48
+method = "dense"
 """
 CHUNK = 20
 
@@ -65,7 +70,7 @@ def test_sigkill_mid_sweep_then_resume_equals_uninterrupted(tmp_path):
     proc.wait()
     assert proc.returncode == -signal.SIGKILL
     done_before = len(list(parts.glob("chunk-*.npz")))
-    assert not out.exists() and 3 <= done_before < 4000 // CHUNK
+    assert not out.exists() and 3 <= done_before < SPEEDS // CHUNK
 
     spec = load_sweep_file(sweep_path)
     progress = []
@@ -112,7 +117,8 @@ def test_script_without_main_guard_runs_workers_once(tmp_path):
         "from periodyn.examples import pendulum\n"
         "from periodyn.sweep import ExecutionOptions, sweep\n"
         "print('script body ran', flush=True)\n"
-        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2, execution=ExecutionOptions(chunk_size=2),\n"
+        "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2,\n"
+        "           execution=ExecutionOptions(chunk_size=2, eager_workers=True),\n"
         "           progress=False)\n"
         "print('stable points:', int(ds['stable'].sum()), flush=True)\n")
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
@@ -125,9 +131,11 @@ SHIPPED = sorted(p.stem for p in (Path(__file__).resolve().parents[2] / "sweeps"
 
 
 @pytest.mark.parametrize("name", SHIPPED)
-def test_serial_and_two_workers_bit_identical_on_shipped_sweeps(name):
+def test_serial_and_two_workers_bit_identical_on_shipped_sweeps(name, monkeypatch):
     """Each shipped sweep file at 12 speeds of its range: the serial sweep (in this process,
-    where BLAS would otherwise run several threads) equals two worker processes bit for bit."""
+    where BLAS would otherwise run several threads) equals two worker processes bit for bit
+    (started although the sweep is short)."""
+    monkeypatch.setattr(backends, "START_COST", {"first": 0.0, "later": 0.0})
     spec = load_sweep_file(Path(__file__).resolve().parents[2] / "sweeps" / f"{name}.toml")
     speeds = spec.omega_values()
     omega = (float(speeds.min()), float(speeds.max()), 12)

@@ -17,7 +17,8 @@ import hashlib
 import multiprocessing
 import os
 import threading
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
 from typing import Iterator
 
 import cloudpickle
@@ -25,11 +26,13 @@ import numpy as np
 
 from ..errors import InputError
 from .job import Job
+from .options import ExecutionOptions
 from .threads import WORKER_THREAD_ENV, limit_threads, one_thread, worker_environment
 
 __all__ = ["BACKENDS", "run_serial", "run_processes", "run_dask"]
 
 _WORKER_JOB: Job | None = None
+_POLL = 0.005  # s between checks of the pool-feeding thread
 _DASK_JOBS: dict[str, Job] = {}
 
 
@@ -65,7 +68,7 @@ def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> di
 
 
 
-def run_serial(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
+def run_serial(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     with one_thread():  # for the whole run: entering costs a scan of the loaded libraries
         for chunk in chunks:
             yield job.solve(chunk)
@@ -83,12 +86,19 @@ def _process_context():
     return context
 
 
+def _ready() -> None:
+    """A task that returns once a worker has started (imports, job loaded)."""
+
+
 class _Pool:
     """Local worker processes fed from the front of the chunk list, started by a thread so
     that this process can solve chunks from the back meanwhile (:func:`run_processes`).
-    ``take()`` hands this process the last chunk no worker has started: one not yet
-    submitted, or a submitted one whose future can still be cancelled (the pool runs its
-    queue in order, so once the last submitted chunk runs, every earlier one does)."""
+    Chunks go to the workers only once one of them is up, and at most ``2 * processes``
+    at a time, so this process never waits for a worker that is still starting: a sweep
+    that ends before then is solved here alone. ``take()`` hands this process the last
+    chunk no worker has started: one not yet submitted, or a submitted one whose future
+    can still be cancelled (the pool runs its queue in order, so once the last submitted
+    chunk runs, every earlier one does)."""
 
     def __init__(self, job: Job, chunks: list[np.ndarray], processes: int):
         self.chunks, self.processes = chunks, processes
@@ -96,24 +106,37 @@ class _Pool:
         self.submitted: list = []
         self.lock = threading.Lock()
         self.pool: ProcessPoolExecutor | None = None
+        self.ready = None  # the future of _ready
         self.error: BaseException | None = None
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
 
+    def _left(self) -> bool:
+        with self.lock:
+            return self.front < self.back
+
     def _feed(self, payload: bytes) -> None:
         try:
-            with worker_environment():
+            with worker_environment():  # the processes start with the first submission
                 self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=_process_context(),
                                                 initializer=_init_worker, initargs=(payload,))
-                while True:
-                    with self.lock:
-                        if self.front >= self.back:
-                            return
-                        i, self.front = self.front, self.front + 1
-                    future = self.pool.submit(_solve_in_worker, self.chunks[i])  # the first waits for a start
-                    with self.lock:
-                        self.submitted.append(future)
+                self.ready = self.pool.submit(_ready)
+            while self._left() and wait([self.ready], timeout=_POLL).not_done:
+                pass
+            while self._left():
+                with self.lock:
+                    busy = [f for f in self.submitted if not f.done()]
+                if len(busy) >= 2 * self.processes:
+                    wait(busy, timeout=_POLL, return_when=FIRST_COMPLETED)
+                    continue
+                with self.lock:
+                    if self.front >= self.back:
+                        return
+                    i, self.front = self.front, self.front + 1
+                future = self.pool.submit(_solve_in_worker, self.chunks[i])
+                with self.lock:
+                    self.submitted.append(future)
         except BaseException as exc:  # re-raised in the sweep's thread
             self.error = exc
 
@@ -147,15 +170,42 @@ class _Pool:
         with self.lock:
             self.back = self.front  # nothing more to submit
         self.thread.join()
-        if self.pool is not None:
-            self.pool.shutdown(wait=True, cancel_futures=True)
+        if self.pool is None:
+            return
+        started = self.ready is not None and self.ready.done()
+        if not started:  # no chunk went to the workers: stop them rather than wait for their start
+            for process in list((getattr(self.pool, "_processes", None) or {}).values()):
+                process.terminate()
+        self.pool.shutdown(wait=started, cancel_futures=True)
 
 
-def run_processes(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
-    """``workers`` processes, this one included: ``workers - 1`` local worker processes
-    take chunks from the front while this process (one thread, as the serial path) solves
-    chunks from the back, so a short sweep does not wait for the workers to start."""
-    pool = _Pool(job, chunks, workers - 1)
+#: Seconds to start local workers, about: the first pool of a process starts the fork
+#: server, which imports periodyn and loads the compiled kernels; later pools fork from it
+START_COST = {"first": 2.0, "later": 0.2}
+_STARTED: list[bool] = []  # a pool was started in this process
+
+
+def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
+    """``workers`` processes, this one included. This process (one thread, as the serial
+    path) solves the last two chunks first and times the second; when the chunks left
+    would take it less than starting the workers (:data:`START_COST`), it solves them alone, else
+    ``workers - 1`` local worker processes take chunks from the front while it solves
+    chunks from the back, so a short sweep never waits for the workers to start
+    (``execution.eager_workers``: start them whatever the estimate)."""
+    with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
+        yield job.solve(chunks[-1])
+        estimate = 0.0
+        if len(chunks) > 1:
+            start = time.perf_counter()
+            yield job.solve(chunks[-2])
+            estimate = (time.perf_counter() - start) * (len(chunks) - 2)
+    if len(chunks) <= 2:
+        return
+    if not execution.eager_workers and estimate < START_COST["later" if _STARTED else "first"]:
+        yield from run_serial(job, chunks[:-2], workers, execution)
+        return
+    _STARTED.append(True)
+    pool = _Pool(job, chunks[:-2], workers - 1)
     try:
         with one_thread():
             while True:
@@ -200,10 +250,10 @@ def _dask_client(scheduler, workers: int):
     return client, [client]
 
 
-def run_dask(job: Job, chunks: list[np.ndarray], workers: int, scheduler) -> Iterator[dict]:
+def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     from distributed import as_completed as dask_as_completed
 
-    client, owned = _dask_client(scheduler, workers)
+    client, owned = _dask_client(execution.scheduler, workers)
     futures = []
     try:
         payload = cloudpickle.dumps(job)

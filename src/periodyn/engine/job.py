@@ -148,7 +148,10 @@ class Job:
 
     def _solve_into(self, out: dict[str, np.ndarray], located: tuple[np.ndarray, ...]) -> None:
         indices = out["index"]
-        grid = np.stack(located[:-1], axis=1) if len(located) > 1 else np.zeros((len(indices), 0), dtype=np.int64)
+        if len(located) == 1:  # no parameter grid: one model
+            self._solve_rows(out, (), np.arange(len(indices)), located[0])
+            return
+        grid = np.stack(located[:-1], axis=1)
         for key in np.unique(grid, axis=0):
             rows = np.nonzero((grid == key).all(axis=1))[0]
             self._solve_rows(out, tuple(int(k) for k in key), rows, located[-1][rows])

@@ -32,14 +32,20 @@ class ExecutionOptions:
         one-thread processes).
     chunk_size: points per chunk (checkpoint granularity and load balance), or None for
         up to 64 with 8+ chunks per worker.
+    eager_workers: start the local worker processes whatever the sweep's length; by
+        default they start only when the chunks left after the first (solved in the
+        calling process, timed) would take longer than starting them.
     """
 
     scheduler: Any = None
     chunk_size: int | None = None
+    eager_workers: bool = False
 
     def __post_init__(self):
         if self.chunk_size is not None:
             object.__setattr__(self, "chunk_size", check_int("ExecutionOptions.chunk_size", self.chunk_size, 1))
+        if not isinstance(self.eager_workers, bool):
+            raise InputError(f"ExecutionOptions.eager_workers must be True or False, got {self.eager_workers!r}")
         if self.scheduler is not None and not isinstance(self.scheduler, str) and not hasattr(self.scheduler, "submit"):
             raise InputError(f"ExecutionOptions.scheduler must be a Dask Client, a scheduler address such as "
                              f"'tcp://host:8786', or 'local', got {type(self.scheduler).__name__}")

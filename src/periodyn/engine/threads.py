@@ -18,8 +18,6 @@ WORKER_THREAD_ENV = {
     "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
     "VECLIB_MAXIMUM_THREADS": "1", "NUMEXPR_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1",
 }
-_MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
-_CHUNKS_PER_WORKER = 8
 
 
 def available_cores() -> int:
@@ -42,12 +40,26 @@ def auto_workers(points: int) -> int:
 
 
 
+_CONTROLLER: list = []  # [(modules loaded when scanned, threadpoolctl controller)]
+
+
+def _controller():
+    """threadpoolctl's controller of the thread pools loaded in this process. Scanning
+    the loaded libraries costs milliseconds (more than a small sweep), so the controller
+    is kept until a module is imported (which may load another BLAS or OpenMP library)."""
+    from threadpoolctl import ThreadpoolController
+
+    loaded = len(sys.modules)
+    if not _CONTROLLER or _CONTROLLER[0][0] != loaded:
+        _CONTROLLER[:] = [(loaded, ThreadpoolController())]
+    return _CONTROLLER[0][1]
+
+
 def limit_threads() -> None:
     """One BLAS/OpenMP and one Numba thread in this (worker) process from now on."""
     import numba
-    from threadpoolctl import threadpool_limits
 
-    threadpool_limits(1)
+    _controller().limit(limits=1)
     numba.set_num_threads(1)
 
 
@@ -56,10 +68,9 @@ def one_thread() -> Iterator[None]:
     """One BLAS/OpenMP and one Numba thread inside the block, as in the workers, so the
     serial sweep computes every point exactly as a worker process does."""
     import numba
-    from threadpoolctl import threadpool_limits
 
     numba_threads = numba.get_num_threads()
-    with threadpool_limits(1):
+    with _controller().limit(limits=1):
         numba.set_num_threads(1)
         try:
             yield

@@ -224,7 +224,7 @@ def magnus_monodromies(terms, omegas, out, points=2):
     """Monodromy matrices of y' = A(theta, omega) y, theta = omega t, at many speeds.
 
     terms: (P, points steps, d, d) float64 with A = sum_p omega^p terms[p] at the Gauss
-    angles of equal steps over one period (periodyn.timedomain.gauss_angles); omegas: (S,)
+    angles of equal steps over one period (periodyn.magnus.gauss_angles); omegas: (S,)
     rad/s; out: (S, d, d), filled with the transition matrices over T = 2 pi / omega;
     points: 2 (4th-order Magnus) or 3 (6th order)."""
     n_terms, n_points, d = terms.shape[0], terms.shape[1], terms.shape[2]

@@ -8,23 +8,28 @@ from numba import njit
 
 @njit(cache=True)
 def _value_d1_d2(c, col, theta):
+    """x, x' and x'' at theta of the real series with the conjugate-symmetric spectrum
+    c[:, col]: x = c_0 + 2 Re sum_{k>0} c_k z^k, z = exp(i theta), the powers of z by
+    recurrence (one exp per evaluation; rounding grows like k eps)."""
     M = (c.shape[0] - 1) // 2
+    z = np.exp(1j * theta)
+    e = z
     v = 0.0
     d1 = 0.0
     d2 = 0.0
-    for j in range(c.shape[0]):
-        k = j - M
-        e = np.exp(1j * k * theta)
-        t = c[j, col] * e
+    for k in range(1, M + 1):
+        t = c[M + k, col] * e
         v += t.real
-        d1 += (1j * k * t).real
+        d1 -= k * t.imag
         d2 -= k * k * t.real
-    return v, d1, d2
+        e *= z
+    return c[M, col].real + 2.0 * v, 2.0 * d1, 2.0 * d2
 
 
 @njit(cache=True)
 def half_range(c, grid, out_half, out_mean):
-    """Half peak-to-peak and mean of real series with spectra c (2M+1, r) complex.
+    """Half peak-to-peak and mean of real series with spectra c (2M+1, r) complex
+    (conjugate-symmetric, c_{-k} = conj(c_k)).
 
     grid: (g, r) samples of the series at g equidistant angles (locates the extrema,
     which 4 Newton steps on the derivative then refine). Fills out_half, out_mean (r,)."""
