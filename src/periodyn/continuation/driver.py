@@ -135,11 +135,11 @@ class _Implicit:
     def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
         self.tol = 1e-9 if opts.tol is None else opts.tol
         self.H = harmonics
+        self.prob = ImplicitProblem(system, opts.subharmonic, opts.shooting_steps, opts.shooting_samples, self.tol)
         if initial is None:
             initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
                           params=P0)
         q, qd = start_state(system, initial, om0, P0)
-        self.prob = ImplicitProblem(system, opts.subharmonic, opts.shooting_steps, opts.shooting_samples, self.tol)
         self.groups = None
         self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
         self._last = (None, None)
