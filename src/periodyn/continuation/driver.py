@@ -18,6 +18,7 @@ from ..errors import ConvergenceError, InputError
 from ..nonlinear.chord import ChordEquations
 from ..nonlinear.elements import as_dae
 from ..nonlinear.newton import lu_factor, newton
+from ..nonlinear.implicit import STEPS, ImplicitProblem
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .confirm import confirm_special_points
@@ -41,7 +42,10 @@ class ContinuationOptions:
     (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
     of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
     its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: check
-    every special point by direct integration (``confirm_special_points``, its defaults).
+    every special point by direct integration (``confirm_special_points``, its defaults);
+    shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
+    models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
+    shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
     """
 
     ds: float = 0.02
@@ -55,6 +59,8 @@ class ContinuationOptions:
     stability: str | None = "magnus"
     shooting_samples: int = 128
     confirm: bool = False
+    shooting_method: str = "auto"
+    shooting_steps: int = STEPS
 
     def __post_init__(self):
         if not (0 < self.ds_min <= self.ds_max) or self.ds <= 0:
@@ -62,6 +68,8 @@ class ContinuationOptions:
                              f"ds_min={self.ds_min}, ds_max={self.ds_max}")
         if self.max_points < 2 or self.max_iter < 1:
             raise InputError("max_points must be >= 2 and max_iter >= 1")
+        if self.shooting_method not in ("auto", "DOP853", "implicit"):
+            raise InputError(f"shooting_method must be 'auto', 'DOP853' or 'implicit', got {self.shooting_method!r}")
         if self.stability is not None and self.stability not in STABILITY_METHODS:
             raise InputError(f"stability must be one of {STABILITY_METHODS} or None, got {self.stability!r}")
 
@@ -78,6 +86,8 @@ class _IHB:
 
     def equations(self, X, om, P):
         return self.prob.residual_jacobian(X, om, P)
+
+    exact_equations = equations
 
     def residual(self, X, om, P):
         return self.prob.residual(X, om, P)
@@ -105,6 +115,9 @@ class _Shooting:
     def equations(self, X, om, P):  # reused Jacobians between exact ones (nonlinear.chord)
         return self.chord.equations(X, om, P)
 
+    def exact_equations(self, X, om, P):
+        return self.prob.equations(X, om, P)
+
     def parameter_derivative(self, X, om, P):
         return self.chord.parameter_derivative(X, om, P)
 
@@ -116,6 +129,49 @@ class _Shooting:
 
     def solution(self, X, om, P, rn, it, exps):
         return self.prob.solution(X, om, P, rn, it, exps, self.H)
+
+
+class _Implicit:
+    """Shooting on the trapezoidal one-period map of an element model (``ImplicitProblem``)."""
+
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+        self.tol = 1e-9 if opts.tol is None else opts.tol
+        self.H = harmonics
+        self.prob = ImplicitProblem(system, opts.subharmonic, opts.shooting_steps, opts.shooting_samples, self.tol)
+        if initial is None:
+            initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
+                          params=P0)
+        q, qd = start_state(system, initial, om0, P0)
+        self.groups = None
+        self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
+        self._last = (None, None)
+
+    def equations(self, X, om, P):
+        return self.prob.equations(X, om, P)
+
+    exact_equations = equations
+
+    def residual(self, X, om, P):
+        return self.prob.residual(X, om, P)
+
+    def _solution(self, X, om, P):
+        key = (np.asarray(X, float).tobytes(), float(om))
+        if self._last[0] != key:
+            self._last = (key, self.prob.solution(X, om, P, 0.0, 0, self.H))
+        return self._last[1]
+
+    def exponents(self, X, om, P):  # of the extrapolated monodromy, as pointwise implicit shooting
+        return self._solution(X, om, P).stability
+
+    def solution(self, X, om, P, rn, it, exps):
+        return replace(self._solution(X, om, P), residual=float(rn), iterations=int(it))
+
+
+def _implicit(system, opts: ContinuationOptions) -> bool:
+    """Whether shooting continuation uses the implicit map (option, or "auto": element models)."""
+    if opts.shooting_method != "auto":
+        return opts.shooting_method == "implicit"
+    return hasattr(getattr(system, "equations", None), "configurations")
 
 
 def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
@@ -155,6 +211,11 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
     if method == "ihb":
         disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    elif _implicit(system, opts):
+        if name is not None:
+            raise InputError("shooting on the implicit map continues omega only; give shooting_method='DOP853' "
+                             "for a parameter curve")
+        disc, dR_dp = _Implicit(system, harmonics, opts, initial, *at(p0)), None
     else:
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
@@ -168,7 +229,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
     sols = [record(pts[0])]
-    specials, status, loose = [], "", set()
+    specials, status, loose, unknowns = [], "", set(), {}
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
         if isinstance(item, str):
             status = item
@@ -177,9 +238,11 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         sols.append(record(item))
         if progress is not None:
             progress(len(pts), item.p)
-        for sp, unbracketed in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+        for sp, unbracketed, X in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+            unknowns[id(sp)] = X
             _add_special(specials, sp, [pt.p for pt in pts], unbracketed, loose)
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
+                   special_unknowns=tuple(unknowns[id(sp)] for sp in specials),
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
                                                            if f.name not in ("tol", "samples")})
     branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
@@ -224,9 +287,11 @@ def _add_special(specials: list, sp: SpecialPoint, p: list, unbracketed: bool, l
     specials.append(sp)
 
 
-def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialPoint, bool]]:
+def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialPoint, bool, np.ndarray | None]]:
     """Classified and refined special points between accepted points a and b (index k),
-    each with whether its test function failed to change sign over the bracket."""
+    each with whether its test function failed to change sign over the bracket and with
+    the discretization's unknowns there (None when refinement failed; branch switching
+    starts from them)."""
     out = []
     for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
         if typ == "fold":
@@ -241,7 +306,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
             p = a.p + s_lin * (b.p - a.p)
             amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
             unbracketed = typ != "fold" and not np.sign(bracket[0]) * np.sign(bracket[1]) < 0
-            out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed))
+            out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed, None))
             continue
         X, p, rn, tests = found
         exps = disc.exponents(X, *at(p))
@@ -252,7 +317,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
                 mu, KINDS[typ])
         vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
         out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
-                                 np.asarray(tests, float)), False))
+                                 np.asarray(tests, float)), False, np.array(X, float)))
     return out
 
 
@@ -298,8 +363,8 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
         (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
         f = (s - sa) / (sb - sa) if sb != sa else 0.5
         p = a.p + s * (b.p - a.p)
-        try:
-            res = newton(lambda X: disc.equations(X, *at(p)), Xa + f * (Xb - Xa), tol=arc.tol, max_iter=12,
+        try:  # exact Jacobians: a fixed-parameter Newton far from the corrector's last point
+            res = newton(lambda X: disc.exact_equations(X, *at(p)), Xa + f * (Xb - Xa), tol=arc.tol, max_iter=12,
                          label="special point", hint="")
         except ConvergenceError:
             return None

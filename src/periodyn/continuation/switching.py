@@ -1,5 +1,16 @@
 """Branch switching: at a period-doubling point onto the period-2T branch, at a branch point
-(symmetry-breaking pitchfork, transcritical) onto the crossing branch."""
+(symmetry-breaking pitchfork, transcritical) onto the crossing branch; from IHB and from
+shooting branches.
+
+Shooting: the orbit at the special point is the refined shooting state the branch kept
+(``options["special_unknowns"]``), not its truncated spectra (at a branch point the
+Jacobian is singular, so a start that is not already converged would be thrown off along
+the null direction). At a branch point the first predictor is the null vector of the
+shooting Jacobian M - I (``point.eigenvector``); at a period doubling the T-orbit is a
+fixed point of the 2T map, whose Jacobian M^2 - I is singular along the eigenvector of M
+for the multiplier -1: a pitchfork of the 2T problem, left along that eigenvector. Both
+vectors are carried from the branch's independent coordinates to those of the new
+shooting problem through the full state (q, q')."""
 
 from __future__ import annotations
 
@@ -9,6 +20,7 @@ import numpy as np
 
 from ..nonlinear.ihb_fourier import real_coefficients
 from ..nonlinear.ihb import IHBProblem
+from ..nonlinear.shooting import ShootingProblem
 from ..errors import InputError
 from ..spectra import fourier_coefficients, synthesize
 from ..timedomain import integrate, monodromy_matrix
@@ -21,7 +33,7 @@ __all__ = ["switch_branch", "switch_period_doubling"]
 def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *, amplitude: float = 1e-2,
                            **kwargs) -> Branch:
     """Follow the period-doubled (period 2T) branch born at a period-doubling ``point`` of
-    an IHB ``branch``, toward parameter ``p_stop``.
+    an IHB or shooting ``branch``, toward parameter ``p_stop`` (shooting: module docstring).
 
     The T-periodic solution at the point is re-expressed with base frequency omega/2
     (harmonics 2H, only even ones non-zero); the critical Floquet mode (eigenvector of
@@ -34,6 +46,8 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
     if point.type != "period-doubling":
         raise InputError(f"point is a {point.type!r}, not a period-doubling point")
     prob = branch.problem
+    if isinstance(prob, ShootingProblem):
+        return _switch_shooting(branch, point, p_stop, 1, kwargs)
     if not isinstance(prob, IHBProblem):
         raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
     system = branch.options["system"]
@@ -76,8 +90,8 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
 
 
 def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: int = 1, **kwargs) -> Branch:
-    """Follow the branch crossing an IHB ``branch`` at a branch ``point`` toward parameter
-    ``p_stop``.
+    """Follow the branch crossing an IHB or shooting ``branch`` at a branch ``point`` toward
+    parameter ``p_stop`` (shooting: module docstring).
 
     At the branch point the Jacobian of the harmonic balance equations has a null vector
     phi (``point.eigenvector``: the Floquet mode of multiplier +1 in the harmonics) that is
@@ -93,6 +107,8 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: i
     if point.type != "branch-point":
         raise InputError(f"point is a {point.type!r}, not a branch point")
     prob = branch.problem
+    if isinstance(prob, ShootingProblem):
+        return _switch_shooting(branch, point, p_stop, side, kwargs)
     if not isinstance(prob, IHBProblem):
         raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
     if point.solution is None or point.eigenvector is None:
@@ -107,3 +123,35 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: i
     opts.update(kwargs)
     return continuation(branch.options["system"], omega_arg, prob.H, "ihb", param_arg, initial=sol,
                         subharmonic=prob.nu, samples=prob.p, tangent=tangent, **opts)
+
+
+def _switch_shooting(branch: Branch, point: SpecialPoint, p_stop: float, side: int, kwargs: dict) -> Branch:
+    """Shooting continuation from the refined orbit at ``point`` along its critical vector
+    (module docstring): the branch point's null vector, or the period doubling's -1
+    eigenvector of M on the 2T problem."""
+    prob, opts_in, name = branch.problem, branch.options, branch.parameter_name
+    known = [j for j, sp in enumerate(branch.special_points)
+             if (sp.type, sp.index, sp.parameter) == (point.type, point.index, point.parameter)]
+    X = opts_in.get("special_unknowns", ())[known[0]] if known and opts_in.get("special_unknowns") else None
+    if X is None:
+        raise InputError("the special point was not refined (no orbit): continue with a smaller ds_max so its "
+                         "refinement converges, then switch")
+    system = opts_in["system"]
+    om = point.omega
+    P = dict(system.parameters, **point.solution.parameters)
+    q, qd = prob.full_state(X, om, P, 0)
+    if point.type == "period-doubling":
+        mu, V = np.linalg.eig(prob.monodromy(X, om, P))
+        v, nu = V[:, int(np.argmin(np.abs(mu + 1)))].real, 2 * prob.nu
+    else:
+        v, nu = point.eigenvector, prob.nu
+    direction = prob._tangent(q, qd, om, P, 0) @ v  # full-state direction (2n,)
+    new = ShootingProblem(system, q, nu)  # the partition continuation's own problem will choose
+    dX = side * new._select(0, direction)
+    opts = {k: opts_in[k] for k in ("tol", "ds_max", "ds_min", "max_iter", "shooting_samples") if k in opts_in}
+    opts.update(kwargs)
+    omega_arg = (point.parameter, p_stop) if name is None else om
+    param_arg = None if name is None else (name, point.parameter, p_stop)
+    H = opts_in["harmonics"] * nu // prob.nu
+    return continuation(system, omega_arg, H, "shooting", param_arg, initial=(q, qd), subharmonic=nu,
+                        tangent=np.concatenate([dX / np.linalg.norm(dX), [0.0]]), **opts)

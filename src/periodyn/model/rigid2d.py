@@ -199,8 +199,14 @@ class PlanarSystem:
             coordinate_names = []
             for b, (_, Ib, nm) in enumerate(self._bodies):
                 coordinate_names += [f"x_{nm}", f"y_{nm}"] + ([f"phi_{nm}"] if Ib is not None else [])
-        return DAE.from_batch(n=n, m=m, mass=mass, force=force, force_jacobians=force_jacobians,
-                              constraint=constraint, constraint_jacobian=constraint_jacobian,
-                              constraint_hessian=constraint_hessian, constraint_rates=constraint_rates,
-                              mass_jacobian=None, q0=q0, parameters=dict(self._params),
-                              coordinate_names=coordinate_names, constraint_names=cnames, name=self.name)
+        dae = DAE.from_batch(n=n, m=m, mass=mass, force=force, force_jacobians=force_jacobians,
+                             constraint=constraint, constraint_jacobian=constraint_jacobian,
+                             constraint_hessian=constraint_hessian, constraint_rates=constraint_rates,
+                             mass_jacobian=None, q0=q0, parameters=dict(self._params),
+                             coordinate_names=coordinate_names, constraint_names=cnames, name=self.name)
+        # the packed arrays for fused kernels (periodyn.kernels.rigid2d_flow): model tuple, and the
+        # joint and load data at parameters P
+        model = (np.ascontiguousarray(Mconst[None]), weight, kint, kflt, lint, np.asarray(start, np.int64),
+                 np.asarray(rot, np.int64), jint, jraw, sint, sflt)
+        dae.planar_arrays = (model, lambda P: (jflt_of(P), lflt_of(P)))
+        return dae

@@ -42,7 +42,7 @@ from ..periodic import PeriodicSolution
 from ..spectra import fourier_coefficients
 from .newton import newton
 
-__all__ = ["ImplicitMap", "implicit_shooting", "STEPS"]
+__all__ = ["ImplicitMap", "ImplicitProblem", "implicit_shooting", "STEPS"]
 
 #: default steps per period: slider-crank at 150 rad/s (its finest-resolved speed), extrapolated
 #: harmonics 7e-5 from DOP853 relative to the largest, estimate 8e-4 (module docstring)
@@ -136,18 +136,70 @@ def implicit_shooting(system, omega: float, q, qd, *, subharmonic: int = 1, step
     for _ in range(int(settle_periods)):
         s = pmap(s, steps // 2)[0][-1]
     coarse = pmap.newton(s, steps // 2, tol, max_iter)
-    Yc, Sc = pmap(coarse.x, steps // 2)
     res = pmap.newton(coarse.x, steps, tol, max_iter)
-    Y, S = pmap(res.x, steps)
+    return _extrapolated(system, pmap, coarse.x, res.x, steps, samples, res.residual,
+                         coarse.iterations + res.iterations, params)
+
+
+def _extrapolated(system, pmap, xc, x, steps, samples, residual, iterations, params, harmonics=None):
+    """PeriodicSolution from the orbits xc on steps / 2 and x on steps (module docstring):
+    extrapolated harmonics (H = harmonics, or min((samples - 1) // 2, steps // 4 - 1)) and
+    multipliers, with the error estimate."""
+    (Yc, Sc), (Y, S) = pmap(xc, steps // 2), pmap(x, steps)
     n, H = system.n, min((int(samples) - 1) // 2, steps // 4 - 1)
+    H = H if harmonics is None else min(H, int(harmonics))
     fine, rough = (fourier_coefficients(Z[:-1, :n], H) for Z in (Y, Yc))
     harmonics = fine + (fine - rough) / 3
     scale = np.abs(harmonics).max()
     error = float(np.abs(fine - rough).max() / 3 / scale) if scale > 0 else 0.0
-    mu = np.linalg.eigvals(S + (S - Sc) / 3)
-    stability = FloquetExponents.from_multipliers(mu, float(omega), "shooting", subharmonic)
-    return PeriodicSolution(float(omega), harmonics, None, system.coordinate_names, system.coordinate_names,
-                            float(res.residual), iterations=coarse.iterations + res.iterations, method="shooting",
-                            subharmonic=subharmonic, lambda_harmonics=np.zeros((2 * H + 1, 0), complex),
+    nu = int(round(pmap.T * pmap.omega / (2 * np.pi)))
+    stability = FloquetExponents.from_multipliers(np.linalg.eigvals(S + (S - Sc) / 3), pmap.omega, "shooting", nu)
+    return PeriodicSolution(pmap.omega, harmonics, None, system.coordinate_names, system.coordinate_names,
+                            float(residual), iterations=int(iterations), method="shooting",
+                            subharmonic=nu, lambda_harmonics=np.zeros((2 * H + 1, 0), complex),
                             stability=stability, parameters=dict(system.parameters if params is None else params),
                             discretization_error=error)
+
+
+class ImplicitProblem:
+    """Shooting residual R(X, omega) = y(T) - X (2n,) of the ``steps``-step trapezoidal map
+    and its exact Jacobian S - I, for continuation in omega (``continuation(...,
+    method="shooting")`` of element models); the maps of the latest speeds are kept. A
+    recorded point also solves the steps / 2 map from it and is returned extrapolated, as
+    by :func:`implicit_shooting` (the same solution to the Newton tolerance)."""
+
+    def __init__(self, system, subharmonic: int = 1, steps: int = STEPS, samples: int = 128, tol: float = 1e-9):
+        if int(steps) < 8 or int(steps) % 2:
+            raise InputError(f"steps must be an even number of steps per period >= 8, got {steps}")
+        ImplicitMap(system, 1.0, subharmonic)  # refuses systems it cannot integrate
+        self.system, self.nu, self.steps, self.p, self.tol = system, int(subharmonic), int(steps), int(samples), tol
+        self.parameter = None
+        self._maps: dict[float, ImplicitMap] = {}
+
+    def map(self, omega) -> ImplicitMap:
+        """The one-period map at omega (rad/s), reused while omega recurs."""
+        key = float(omega)
+        if key not in self._maps:
+            if len(self._maps) > 4:
+                self._maps.pop(next(iter(self._maps)))
+            self._maps[key] = ImplicitMap(self.system, key, self.nu)
+        return self._maps[key]
+
+    def state(self, q, qd) -> np.ndarray:
+        return np.concatenate([np.asarray(q, float).reshape(-1), np.asarray(qd, float).reshape(-1)])
+
+    def equations(self, X, omega, params=None):
+        Y, S = self.map(omega)(X, self.steps)
+        return Y[-1] - X, S - np.eye(X.size)
+
+    def residual(self, X, omega, params=None) -> np.ndarray:
+        return self.map(omega)(X, self.steps)[0][-1] - X
+
+    def newton(self, X, omega, params=None, tol=1e-9, max_iter=30):
+        return self.map(omega).newton(np.asarray(X, float), self.steps, tol, max_iter)
+
+    def solution(self, X, omega, params, residual, iterations, harmonics=None) -> PeriodicSolution:
+        """The recorded orbit (class docstring); raises ConvergenceError when the coarse map fails."""
+        pmap = self.map(omega)
+        xc = pmap.newton(np.asarray(X, float), self.steps // 2, self.tol, 30).x
+        return _extrapolated(self.system, pmap, xc, X, self.steps, self.p, residual, iterations, params, harmonics)

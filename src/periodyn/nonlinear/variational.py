@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..kernels.rigid2d_flow import variational_rhs
 from ..kernels.saddle import saddle_accelerations, saddle_jacobians
 from .integrate import baumgarte_rate, solve
 
@@ -194,6 +195,16 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
             OC[:, :n, -1] += v * ((omega / w - 1.0) / hp)
             OC[:, n:, -1] += (ev.accelerations(q, v, (tau0 + sigma) / w, w, PP) * (omega / w) - qdd) / hp
         return out / omega
+
+    planar = getattr(system, "planar_arrays", None)
+    if planar is not None:  # one jitted call per stage (periodyn.kernels.rigid2d_flow)
+        (model, data), tau0c = planar, np.ascontiguousarray(tau0)
+        fused = (float(omega), float(a), n, k, int(sens), hp, float(w), model, *data(P), *data(PP))
+
+        def rhs(sigma, y):  # noqa: F811 - the jitted twin of the rhs above
+            out = np.empty_like(y)
+            variational_rhs(float(sigma), y, tau0c, *fused, out)
+            return out
 
     def derivatives(sigma, y):
         Y = y[:bN].reshape(b, N)
