@@ -178,7 +178,7 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
     ev = Derivatives(system, omega, P, a)
     w, PP = _parameter(system, omega, P, parameter, 1.0, hp)
 
-    def rhs(sigma, y):
+    def python_rhs(sigma, y):
         t = (tau0 + sigma) / omega
         (Y, C), out = parts(y), np.empty_like(y)
         O, OC = parts(out)
@@ -197,11 +197,13 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         return out / omega
 
     planar = getattr(system, "planar_arrays", None)
-    if planar is not None:  # one jitted call per stage (periodyn.kernels.rigid2d_flow)
+    if planar is None:
+        rhs = python_rhs
+    else:  # one jitted call per stage (periodyn.kernels.rigid2d_flow)
         (model, data), tau0c = planar, np.ascontiguousarray(tau0)
         fused = (float(omega), float(a), n, k, int(sens), hp, float(w), model, *data(P), *data(PP))
 
-        def rhs(sigma, y):  # noqa: F811 - the jitted twin of the rhs above
+        def rhs(sigma, y):  # the jitted twin of python_rhs
             out = np.empty_like(y)
             variational_rhs(float(sigma), y, tau0c, *fused, out)
             return out
