@@ -23,6 +23,8 @@ __all__ = [
     "sample_angles",
     "harmonic_indices",
     "fourier_coefficients",
+    "real_basis",
+    "StackedSpectra",
     "to_samples",
     "synthesize",
     "spectral_tail",
@@ -132,6 +134,57 @@ def synthesize(coefficients: np.ndarray, theta: np.ndarray) -> np.ndarray:
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     basis = np.exp(1j * np.outer(theta, np.arange(-K, K + 1)))
     return np.tensordot(basis, c, axes=(1, 0)).real
+
+
+def real_basis(harmonics: int, theta: np.ndarray) -> np.ndarray:
+    """Real trigonometric basis (s, 2L+1) at angles theta (s,) rad: columns
+    1, cos θ, sin θ, cos 2θ, sin 2θ, ..., cos Lθ, sin Lθ (the row layout of
+    :class:`StackedSpectra`)."""
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    phase = np.outer(theta, np.arange(1, harmonics + 1))
+    basis = np.empty((theta.size, 2 * harmonics + 1))
+    basis[:, 0] = 1.0
+    basis[:, 1::2], basis[:, 2::2] = np.cos(phase), np.sin(phase)
+    return basis
+
+
+class StackedSpectra:
+    """Several real-signal spectra X_i (2K_i+1, ...) (l = -K_i..K_i) stacked as real cosine/sine
+    coefficients, so that all their signals at any angles take one matrix product:
+    ``values = real_basis(K, theta) @ rows`` with K = max K_i.
+
+    Re sum_l X_l e^(ilθ) = X_0 + sum_{l>0} [cos lθ Re(X_l + X_-l) + sin lθ Im(X_-l - X_l)],
+    exactly. ``rows``: (2K+1, total entries); :meth:`at` splits the product back into the
+    spectra's shapes; :meth:`split` does that for values computed elsewhere (e.g. with a
+    cached basis)."""
+
+    def __init__(self, *spectra: np.ndarray):
+        self.harmonics = max((np.shape(X)[0] - 1) // 2 for X in spectra)
+        self.shapes = tuple(np.shape(X)[1:] for X in spectra)
+        K = self.harmonics
+        self.rows = np.zeros((2 * K + 1, sum(int(np.prod(s)) for s in self.shapes)))
+        col = 0
+        for X, shape in zip(spectra, self.shapes):
+            X = np.asarray(X).reshape(np.shape(X)[0], -1)
+            k, width = (X.shape[0] - 1) // 2, X.shape[1]
+            block = self.rows[:, col: col + width]
+            block[0] = X[k].real
+            block[1: 2 * k + 1: 2] = (X[k + 1:] + X[k - 1:: -1][: k]).real
+            block[2: 2 * k + 2: 2] = (X[k - 1:: -1][: k] - X[k + 1:]).imag
+            col += width
+
+    def split(self, values: np.ndarray) -> tuple[np.ndarray, ...]:
+        """Values (s, total entries) split into one array (s, *shape_i) per spectrum."""
+        out, col = [], 0
+        for shape in self.shapes:
+            width = int(np.prod(shape))
+            out.append(values[:, col: col + width].reshape((values.shape[0],) + shape))
+            col += width
+        return tuple(out)
+
+    def at(self, theta: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The real signals of every spectrum at angles theta (s,) rad: arrays (s, *shape_i)."""
+        return self.split(real_basis(self.harmonics, theta) @ self.rows)
 
 
 def spectral_tail(coefficients: np.ndarray) -> float:
