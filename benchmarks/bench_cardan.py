@@ -71,12 +71,28 @@ def main():
           f"[{zones.min():.3f}, {zones.max():.3f}]; {int(unstable.sum())} of the subset" if zones.size else
           "auto: no unstable speed")
     period = 2 * np.pi / subset
+    certified = certified_errors(model, subset, m)
+    magnus = auto["stability_method"].values == "magnus"
     for name in ("dense", "monodromy"):
         diff = np.abs(auto["max_real_exponent"].values - data[name]["max_real_exponent"].values)
         i = int(np.nanargmax(diff))
         print(f"max |Re lambda| difference auto - {name} on the subset: {diff[i]:.2e} 1/s (growth per period "
               f"{diff[i] * period[i]:.1e}) at omega/omega_b = {subset[i] / wb:.3f}; largest growth difference "
               f"{np.nanmax(diff * period):.1e}")
+        over = magnus & (diff * period > certified)
+        print(f"  at the {int(magnus.sum())} Magnus speeds of the subset: growth difference / certified error "
+              f"at most {np.nanmax(diff[magnus] * period[magnus] / certified[magnus]):.2f}; "
+              f"{int(over.sum())} beyond the certified error")
+
+
+def certified_errors(model, speeds, m):
+    """The Magnus ladder's certified error of log max|mu| (S,) at speeds (as "auto" runs it)."""
+    from periodyn.analysis import SpeedSolver
+    from periodyn.hill import HILL_TIME_FACTOR
+
+    solver = SpeedSolver(model, m)
+    seconds = np.array([c for _, _, c in solver.hill_methods(speeds)])
+    return solver.ladder.solve(speeds, seconds * HILL_TIME_FACTOR).error
 
 
 if __name__ == "__main__":

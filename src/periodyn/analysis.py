@@ -201,7 +201,7 @@ class SpeedSolver:
         hill = self.hill_methods(w)
         seconds = np.array([c for _, _, c in hill])
         est = self.ladder.solve(w, seconds * HILL_TIME_FACTOR)
-        first = self.ladder.first_cost(w)
+        first = est.first_cost
         methods = np.array(["magnus" if ok else h for ok, (h, _, _) in zip(est.accepted, hill)], dtype=object)
         reasons = np.array([magnus_reason(est, i, hill[i][0], seconds[i], first[i]) for i in range(w.size)],
                            dtype=object)

@@ -149,7 +149,7 @@ def auto_exponents(system: RheoLinear, op: HillOperator) -> FloquetExponents:
     ladder = MagnusLadder(S.mass, S.damping[..., None], S.stiffness[..., None])
     w = np.array([float(system.omega)])
     est = ladder.solve(w, np.array([seconds * HILL_TIME_FACTOR]))
-    reason = magnus_reason(est, 0, hill, seconds, float(ladder.first_cost(w)[0]))
+    reason = magnus_reason(est, 0, hill, seconds, float(est.first_cost[0]))
     if est.accepted[0]:
         nan = np.full(2 * system.n, np.nan)
         return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus", reason=reason)

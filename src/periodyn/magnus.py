@@ -15,13 +15,13 @@ step doubling with an error estimate from successive rungs (see its docstring).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from .errors import InputError
 from .floquet import STABILITY_TOL
 from .kernels.floquet import magnus_monodromies, magnus_product
-from .spectra import synthesize
 
 __all__ = ["gauss_angles", "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array",
            "half_period_signs", "MagnusEstimate", "MagnusLadder"]
@@ -43,6 +43,17 @@ def gauss_angles(steps: int, start: float = 0.0, stop: float = 2 * np.pi, points
     return start + (stop - start) * frac
 
 
+@lru_cache(maxsize=64)
+def _angle_basis(K: int, steps: int, points: int, span: float) -> np.ndarray:
+    """Real basis (points steps, 2 (2K+1)) at the Gauss angles of ``steps`` steps over
+    [0, span]: ``[cos(k theta), -sin(k theta)]`` for k = -K..K, so that basis @ [Re c; Im c]
+    is the real signal of a two-sided spectrum c (read-only, shared between calls)."""
+    phase = np.outer(gauss_angles(steps, 0.0, span, points), np.arange(-K, K + 1))
+    basis = np.concatenate([np.cos(phase), -np.sin(phase)], axis=1)
+    basis.flags.writeable = False
+    return basis
+
+
 def magnus_terms(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -> tuple[np.ndarray, float]:
     """Terms of the balanced first-order system matrix for the Magnus kernels.
 
@@ -54,8 +65,8 @@ def magnus_terms(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -
     D = diag(a I, I), with the same eigenvalues)."""
     g, n = mass.shape[:2]
     Pc, Pk = damping.shape[-1], stiffness.shape[-1]
-    MinvC = np.linalg.solve(mass, damping.reshape(g, n, n * Pc)).reshape(g, n, n, Pc)
-    MinvK = np.linalg.solve(mass, stiffness.reshape(g, n, n * Pk)).reshape(g, n, n, Pk)
+    both = np.linalg.solve(mass, np.concatenate([damping.reshape(g, n, n * Pc), stiffness.reshape(g, n, n * Pk)], 2))
+    MinvC, MinvK = both[..., :n * Pc].reshape(g, n, n, Pc), both[..., n * Pc:].reshape(g, n, n, Pk)
     top = float(np.abs(MinvK[..., 0]).sum(axis=2).max()) if g else 0.0
     a = np.sqrt(top) if top > 0 else 1.0
     terms = np.zeros((max(Pc, Pk), g, 2 * n, 2 * n))
@@ -157,6 +168,7 @@ class MagnusEstimate:
     error: np.ndarray
     margin: np.ndarray
     order: np.ndarray
+    first_cost: np.ndarray  # (S,) estimated seconds of the first comparison (first two rungs)
 
 
 class MagnusLadder:
@@ -207,6 +219,16 @@ class MagnusLadder:
         self.orders = (6, 4) if order is None else (order,)
         self.spectra = (mass, damping, stiffness)
         self.n = mass.shape[1]
+        # the three spectra stacked as real coefficients [Re; Im] (2 (2K+1), entries), so that
+        # their values at a rung's angles take one product with a cached angle basis
+        self._K = max((X.shape[0] - 1) // 2 for X in self.spectra)
+        flat = np.zeros((2 * self._K + 1, sum(X[0].size for X in self.spectra)), complex)
+        col = 0
+        for X in self.spectra:
+            k = (X.shape[0] - 1) // 2
+            flat[self._K - k: self._K + k + 1, col: col + X[0].size] = X.reshape(X.shape[0], -1)
+            col += X[0].size
+        self._coefficients = np.concatenate([flat.real, flat.imag])
         self.signs = half_period_signs(mass, damping, stiffness)
         self.span = 2 * np.pi if self.signs is None else np.pi  # angle the steps cover, rad
         self._terms: dict[tuple[int, int], tuple[np.ndarray, float]] = {}
@@ -218,8 +240,12 @@ class MagnusLadder:
         kernel, given twice the speed, takes steps of span / (omega steps) with the right
         matrix."""
         if (order, steps) not in self._terms:
-            angles = gauss_angles(steps, 0.0, self.span, order // 2)
-            terms, a = magnus_terms(*(synthesize(X, angles) for X in self.spectra))
+            values = _angle_basis(self._K, steps, order // 2, self.span) @ self._coefficients
+            parts, col = [], 0
+            for X in self.spectra:
+                parts.append(values[:, col: col + X[0].size].reshape((-1,) + X.shape[1:]))
+                col += X[0].size
+            terms, a = magnus_terms(*parts)
             if self.signs is not None:
                 terms = terms / (2.0 ** np.arange(terms.shape[0]))[:, None, None, None]
             self._terms[order, steps] = terms, a
@@ -252,19 +278,29 @@ class MagnusLadder:
         """Magnus order (S,) per speed: with both orders, 4 where the first rung of order 6
         has at least STIFF steps (stiff element models: there order 4 certifies with fewer
         steps, as its error is smaller at the same steps), else 6."""
-        if len(self.orders) == 1:
-            return np.full(np.size(omegas), self.orders[0])
-        return np.where(self.first_rungs(omegas, 6) >= self.STIFF, 4, 6)
+        return self._plan(np.asarray(omegas, float))[0]
 
     def first_cost(self, omegas: np.ndarray) -> np.ndarray:
         """Estimated seconds (S,) of the first comparison (first two rungs) per speed."""
-        w = np.asarray(omegas, float)
-        total = np.zeros(w.size)
-        for order in self.orders:
-            mine = self.orders_at(w) == order
-            first = self.first_rungs(w[mine], order)
-            total[mine] = self.cost(w[mine], first, order) + self.cost(w[mine], 2 * first, order)
-        return total
+        return self._plan(np.asarray(omegas, float))[2]
+
+    def _plan(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Order (S,), first rung (S,) and estimated seconds of the first two rungs (S,)
+        per speed w (S,) rad/s."""
+        first = self.first_rungs(w, self.orders[0])
+        if len(self.orders) == 1:
+            order = np.full(w.size, self.orders[0])
+        else:
+            order = np.where(first >= self.STIFF, 4, 6)
+            stiff = order == 4
+            if stiff.any():
+                first[stiff] = self.first_rungs(w[stiff], 4)
+        cost = np.zeros(w.size)
+        for o in self.orders:
+            mine = order == o
+            if mine.any():
+                cost[mine] = self.cost(w[mine], first[mine], o) + self.cost(w[mine], 2 * first[mine], o)
+        return order, first, cost
 
     def _moduli(self, omegas: np.ndarray, steps: int, order: int) -> tuple[np.ndarray, np.ndarray]:
         """Exponents (S, 2n) and sorted multiplier moduli (S, 2n) with ``steps`` steps
@@ -287,7 +323,7 @@ class MagnusLadder:
     def _empty(self, S: int) -> MagnusEstimate:
         d = 2 * self.n
         return MagnusEstimate(np.full((S, d), np.nan + 0j), np.zeros(S, bool), np.zeros(S, np.int64),
-                              np.full(S, np.inf), np.full(S, np.nan), np.zeros(S, np.int64))
+                              np.full(S, np.inf), np.full(S, np.nan), np.zeros(S, np.int64), np.zeros(S))
 
     def solve(self, omegas, budget) -> MagnusEstimate:
         """Exponents at speeds omegas (S,) rad/s, each speed doubling its steps while the
@@ -296,19 +332,23 @@ class MagnusLadder:
         S = w.size
         budget = np.broadcast_to(np.asarray(budget, float), (S,))
         out = self._empty(S)
+        orders, first, out.first_cost[:] = self._plan(w)
         for order in self.orders:
-            mine = np.nonzero(self.orders_at(w) == order)[0]
-            self._climb(w, budget, mine, self.first_rungs(w, order), out, order)
+            mine = np.nonzero(orders == order)[0]
+            if mine.size:
+                self._climb(w, budget, mine, first, out, order)
         return out
 
     def _climb(self, w, budget, idx, first, out, order) -> np.ndarray:
-        """Step doubling in ``order`` from ``first[idx]`` steps at the speeds w[idx],
-        filling out; returns the estimated seconds spent (S,)."""
+        """Step doubling in ``order`` from ``first[idx]`` steps at the speeds w[idx] (whose
+        first comparison costs out.first_cost[idx]), filling out; returns the estimated
+        seconds spent (S,)."""
         spent_all = np.zeros(w.size)
         rung = first[idx].copy()
-        affordable = self.cost(w[idx], rung, order) + self.cost(w[idx], 2 * rung, order) <= budget[idx]
+        affordable = out.first_cost[idx] <= budget[idx]
         idx, rung = idx[affordable], rung[affordable]
         spent = np.zeros(idx.size)
+        pending = self.cost(w[idx], rung, order)  # estimated seconds of each speed's next rung
         last = np.full((idx.size, 2 * self.n), np.nan)
         e_prev = np.full(idx.size, np.nan)
         active = np.arange(idx.size)
@@ -320,7 +360,8 @@ class MagnusLadder:
             for steps in np.unique(rung[active]):
                 sel = active[rung[active] == steps]
                 ws = w[idx[sel]]
-                spent[sel] += self.cost(ws, steps, order)
+                spent[sel] += pending[sel]
+                pending[sel] = self.cost(ws, 2 * steps, order)
                 exps, mod = self._moduli(ws, int(steps), order)
                 with np.errstate(all="ignore"):  # non-finite multipliers: error NaN, not accepted
                     top = np.log(mod[:, -1])
@@ -335,7 +376,7 @@ class MagnusLadder:
                 out.exponents[target], out.steps[target], out.order[target] = exps[compared], steps, order
                 out.error[target], out.margin[target], out.accepted[target] = error[compared], margin[compared], ok[compared]
                 last[sel], e_prev[sel] = mod, e
-                stop = ok | (spent[sel] + self.cost(ws, 2 * steps, order) > budget[idx[sel]]) | (2 * steps > largest)
+                stop = ok | (spent[sel] + pending[sel] > budget[idx[sel]]) | (2 * steps > largest)
                 done[sel] = stop & compared
                 rung[sel] = 2 * steps
             active = active[~done[active]]

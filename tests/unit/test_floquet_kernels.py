@@ -81,25 +81,34 @@ def test_expm_matches_scipy(d, norm):
     np.testing.assert_allclose(out, ref, atol=5e-14 * np.abs(ref).max() * max(1.0, norm))
 
 
+def _batch_equals_single_and_twin(terms, steps, points, kernel, twin):
+    """Slider-crank monodromies at 150 and 230 rad/s: the batched kernel equals the
+    single-transition kernel bit for bit and its NumPy twin to 1e-11; returns
+    [(omega, h, transition)]."""
+    omegas = np.array([150.0, 230.0])
+    batch = np.empty((2, 8, 8))
+    magnus_monodromies(terms, omegas, batch, points)
+    out = []
+    for w, phi_batch in zip(omegas, batch):
+        A = terms[0] + w * terms[1] + w * w * terms[2]
+        h = 2 * np.pi / (w * steps)
+        single = np.empty((8, 8))
+        kernel(A, h, single)
+        np.testing.assert_array_equal(single, phi_batch)
+        np.testing.assert_allclose(single, twin(A, h), atol=1e-11 * np.abs(single).max())
+        out.append((w, h, single))
+    return out
+
+
 def test_magnus_product_matches_twin_and_batch_matches_single():
     model = periodyn.examples.slider_crank(damping=0.02, samples=64)
     steps = 64
     theta = gauss_angles(steps)
     Mg, Cg, Kg = (periodyn.spectra.synthesize(X, theta) for X in model._power_spectra[:3])
     terms, a = magnus_terms(Mg, Cg, Kg)
-    omegas = np.array([150.0, 230.0])
-    batch = np.empty((2, 8, 8))
-    magnus_monodromies(terms, omegas, batch)
-    for w, phi_batch in zip(omegas, batch):
-        A = terms[0] + w * terms[1] + w * w * terms[2]
-        h = 2 * np.pi / (w * steps)
-        single = np.empty((8, 8))
-        magnus_product(A, h, single)
-        np.testing.assert_array_equal(single, phi_batch)
-        np.testing.assert_allclose(single, magnus_twin(A, h), atol=1e-11 * np.abs(single).max())
+    for w, h, single in _batch_equals_single_and_twin(terms, steps, 2, magnus_product, magnus_twin):
         # the unbalanced transition of (q, q') is similar to the balanced one
-        at = model.at(w)
-        S = at.spectra
+        S = model.at(w).spectra
         unbalanced = magnus_transition(*(periodyn.spectra.synthesize(X, theta) for X in (S.mass, S.damping,
                                                                                           S.stiffness)), h)
         np.testing.assert_allclose(np.sort_complex(np.linalg.eigvals(unbalanced)),
@@ -111,18 +120,9 @@ def test_magnus_product_matches_twin_and_batch_matches_single():
 def test_magnus6_product_matches_twin_and_batch_matches_single():
     model = periodyn.examples.slider_crank(damping=0.02, samples=64)
     steps = 48
-    terms, a = magnus_terms(*(periodyn.spectra.synthesize(X, gauss_angles(steps, points=3))
+    terms, _ = magnus_terms(*(periodyn.spectra.synthesize(X, gauss_angles(steps, points=3))
                               for X in model._power_spectra[:3]))
-    omegas = np.array([150.0, 230.0])
-    batch = np.empty((2, 8, 8))
-    magnus_monodromies(terms, omegas, batch, 3)
-    for w, phi_batch in zip(omegas, batch):
-        A = terms[0] + w * terms[1] + w * w * terms[2]
-        h = 2 * np.pi / (w * steps)
-        single = np.empty((8, 8))
-        magnus6_product(A, h, single)
-        np.testing.assert_array_equal(single, phi_batch)
-        np.testing.assert_allclose(single, magnus6_twin(A, h), atol=1e-11 * np.abs(single).max())
+    assert len(_batch_equals_single_and_twin(terms, steps, 3, magnus6_product, magnus6_twin)) == 2
 
 
 @pytest.mark.parametrize("builder,m,speeds", [

@@ -137,28 +137,65 @@ def _expm(X, out, w):
 
 
 @njit(cache=True)
-def magnus_product(A, h, phi):
-    """Transition matrix over ``A.shape[0] // 2`` equal steps h (s) of y' = A(t) y.
+def _generator4(A, step, h, G, w):
+    """G = h/2 (A1 + A2) + sqrt(3)/12 h^2 [A2, A1], the 4th-order Magnus generator of
+    step ``step`` from the two Gauss-point matrices A[2 step], A[2 step + 1]; w: scratch
+    (>= 2, d, d)."""
+    A1, A2 = A[2 * step], A[2 * step + 1]
+    _commutator(A2, A1, w[0], w[1])
+    c = _MAGNUS_C * h * h
+    for i in range(A1.shape[0]):
+        for j in range(A1.shape[0]):
+            G[i, j] = 0.5 * h * (A1[i, j] + A2[i, j]) + c * w[0, i, j]
 
-    A: (2 steps, d, d) float64, the system matrix at the two Gauss points of each step;
-    phi: (d, d) output, the transition matrix from the start (phi(0) = I)."""
+
+@njit(cache=True)
+def _generator6(A, step, h, G, w):
+    """G = the 6th-order Magnus generator (module docstring) of step ``step`` from the
+    three Gauss-point matrices A[3 step .. 3 step + 2]; w: scratch (>= 6, d, d)."""
+    A1, A2, A3 = A[3 * step], A[3 * step + 1], A[3 * step + 2]
+    a1, a2, a3, C, X, Y = w[0], w[1], w[2], w[3], w[4], w[5]
+    tmp = G  # G is written last
+    d = A1.shape[0]
+    for i in range(d):
+        for j in range(d):
+            a1[i, j] = h * A2[i, j]
+            a2[i, j] = _SQRT15_3 * h * (A3[i, j] - A1[i, j])
+            a3[i, j] = (10.0 / 3.0) * h * (A3[i, j] - 2.0 * A2[i, j] + A1[i, j])
+    _commutator(a1, a2, C, tmp)  # C1
+    for i in range(d):
+        for j in range(d):
+            X[i, j] = 2.0 * a3[i, j] + C[i, j]
+    _commutator(a1, X, Y, tmp)  # -60 C2
+    for i in range(d):
+        for j in range(d):
+            X[i, j] = -20.0 * a1[i, j] - a3[i, j] + C[i, j]
+            Y[i, j] = a2[i, j] - Y[i, j] / 60.0
+    _commutator(X, Y, C, tmp)
+    for i in range(d):
+        for j in range(d):
+            G[i, j] = a1[i, j] + a3[i, j] / 12.0 + C[i, j] / 240.0
+
+
+@njit(cache=True)
+def _magnus_steps(A, h, phi, points):
+    """Transition matrix phi (d, d) over ``A.shape[0] // points`` equal steps h (s) of
+    y' = A(t) y from the system matrix at the ``points`` (2: order 4, 3: order 6) Gauss
+    points of each step, A (points steps, d, d); phi(0) = I."""
     d = A.shape[1]
     w = np.empty((6, d, d))
-    P, Q, G, E, other = np.empty((d, d)), np.empty((d, d)), np.empty((d, d)), np.empty((d, d)), np.empty((d, d))
+    g = np.empty((6, d, d))
+    G, E, other = np.empty((d, d)), np.empty((d, d)), np.empty((d, d))
     current = phi
     current[:, :] = 0.0
     for i in range(d):
         current[i, i] = 1.0
-    c = _MAGNUS_C * h * h
-    steps = A.shape[0] // 2
+    steps = A.shape[0] // points
     for step in range(steps):
-        A1 = A[2 * step]
-        A2 = A[2 * step + 1]
-        _matmul(A2, A1, P)
-        _matmul(A1, A2, Q)
-        for i in range(d):
-            for j in range(d):
-                G[i, j] = 0.5 * h * (A1[i, j] + A2[i, j]) + c * (P[i, j] - Q[i, j])
+        if points == 3:
+            _generator6(A, step, h, G, g)
+        else:
+            _generator4(A, step, h, G, g)
         _expm(G, E, w)
         _matmul(E, current, other)  # ping-pong between phi and a scratch matrix
         current, other = other, current
@@ -175,48 +212,23 @@ def _commutator(X, Y, out, tmp):
 
 
 @njit(cache=True)
+def magnus_product(A, h, phi):
+    """Transition matrix over ``A.shape[0] // 2`` equal steps h (s) of y' = A(t) y by the
+    4th-order Magnus integrator.
+
+    A: (2 steps, d, d) float64, the system matrix at the two Gauss points of each step;
+    phi: (d, d) output, the transition matrix from the start (phi(0) = I)."""
+    _magnus_steps(A, h, phi, 2)
+
+
+@njit(cache=True)
 def magnus6_product(A, h, phi):
     """Transition matrix over ``A.shape[0] // 3`` equal steps h (s) of y' = A(t) y by the
     6th-order Magnus integrator (module docstring).
 
     A: (3 steps, d, d) float64, the system matrix at the three Gauss points of each step;
     phi: (d, d) output, the transition matrix from the start (phi(0) = I)."""
-    d = A.shape[1]
-    w = np.empty((6, d, d))
-    a1, a2, a3 = np.empty((d, d)), np.empty((d, d)), np.empty((d, d))
-    C, X, Y, G, E, tmp = (np.empty((d, d)), np.empty((d, d)), np.empty((d, d)), np.empty((d, d)),
-                          np.empty((d, d)), np.empty((d, d)))
-    other = np.empty((d, d))
-    current = phi
-    current[:, :] = 0.0
-    for i in range(d):
-        current[i, i] = 1.0
-    steps = A.shape[0] // 3
-    for step in range(steps):
-        A1, A2, A3 = A[3 * step], A[3 * step + 1], A[3 * step + 2]
-        for i in range(d):
-            for j in range(d):
-                a1[i, j] = h * A2[i, j]
-                a2[i, j] = _SQRT15_3 * h * (A3[i, j] - A1[i, j])
-                a3[i, j] = (10.0 / 3.0) * h * (A3[i, j] - 2.0 * A2[i, j] + A1[i, j])
-        _commutator(a1, a2, C, tmp)  # C1
-        for i in range(d):
-            for j in range(d):
-                X[i, j] = 2.0 * a3[i, j] + C[i, j]
-        _commutator(a1, X, Y, tmp)  # -60 C2
-        for i in range(d):
-            for j in range(d):
-                X[i, j] = -20.0 * a1[i, j] - a3[i, j] + C[i, j]
-                Y[i, j] = a2[i, j] - Y[i, j] / 60.0
-        _commutator(X, Y, C, tmp)
-        for i in range(d):
-            for j in range(d):
-                G[i, j] = a1[i, j] + a3[i, j] / 12.0 + C[i, j] / 240.0
-        _expm(G, E, w)
-        _matmul(E, current, other)  # ping-pong between phi and a scratch matrix
-        current, other = other, current
-    if steps % 2 == 1:
-        phi[:, :] = current
+    _magnus_steps(A, h, phi, 3)
 
 
 @njit(cache=True)
@@ -239,10 +251,7 @@ def magnus_monodromies(terms, omegas, out, points=2):
                 for i in range(d):
                     for j in range(d):
                         A[g, i, j] += power * terms[p, g, i, j]
-        if points == 3:
-            magnus6_product(A, 2.0 * np.pi / (w * steps), out[s])
-        else:
-            magnus_product(A, 2.0 * np.pi / (w * steps), out[s])
+        _magnus_steps(A, 2.0 * np.pi / (w * steps), out[s], points)
 
 
 @njit(cache=True)
