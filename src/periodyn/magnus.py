@@ -22,6 +22,7 @@ import numpy as np
 from .errors import InputError
 from .floquet import STABILITY_TOL
 from .kernels.floquet import magnus_monodromies, magnus_product
+from .spectra import StackedSpectra, real_basis
 
 __all__ = ["gauss_angles", "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array",
            "half_period_signs", "MagnusEstimate", "MagnusLadder"]
@@ -45,11 +46,9 @@ def gauss_angles(steps: int, start: float = 0.0, stop: float = 2 * np.pi, points
 
 @lru_cache(maxsize=64)
 def _angle_basis(K: int, steps: int, points: int, span: float) -> np.ndarray:
-    """Real basis (points steps, 2 (2K+1)) at the Gauss angles of ``steps`` steps over
-    [0, span]: ``[cos(k theta), -sin(k theta)]`` for k = -K..K, so that basis @ [Re c; Im c]
-    is the real signal of a two-sided spectrum c (read-only, shared between calls)."""
-    phase = np.outer(gauss_angles(steps, 0.0, span, points), np.arange(-K, K + 1))
-    basis = np.concatenate([np.cos(phase), -np.sin(phase)], axis=1)
+    """:func:`periodyn.spectra.real_basis` (points steps, 2K+1) at the Gauss angles of
+    ``steps`` steps over [0, span] (read-only, shared between calls)."""
+    basis = real_basis(K, gauss_angles(steps, 0.0, span, points))
     basis.flags.writeable = False
     return basis
 
@@ -219,16 +218,9 @@ class MagnusLadder:
         self.orders = (6, 4) if order is None else (order,)
         self.spectra = (mass, damping, stiffness)
         self.n = mass.shape[1]
-        # the three spectra stacked as real coefficients [Re; Im] (2 (2K+1), entries), so that
-        # their values at a rung's angles take one product with a cached angle basis
-        self._K = max((X.shape[0] - 1) // 2 for X in self.spectra)
-        flat = np.zeros((2 * self._K + 1, sum(X[0].size for X in self.spectra)), complex)
-        col = 0
-        for X in self.spectra:
-            k = (X.shape[0] - 1) // 2
-            flat[self._K - k: self._K + k + 1, col: col + X[0].size] = X.reshape(X.shape[0], -1)
-            col += X[0].size
-        self._coefficients = np.concatenate([flat.real, flat.imag])
+        # the three spectra stacked as real cosine/sine rows: their values at a rung's angles
+        # take one product with a cached angle basis
+        self._stacked = StackedSpectra(*self.spectra)
         self.signs = half_period_signs(mass, damping, stiffness)
         self.span = 2 * np.pi if self.signs is None else np.pi  # angle the steps cover, rad
         self._terms: dict[tuple[int, int], tuple[np.ndarray, float]] = {}
@@ -240,12 +232,8 @@ class MagnusLadder:
         kernel, given twice the speed, takes steps of span / (omega steps) with the right
         matrix."""
         if (order, steps) not in self._terms:
-            values = _angle_basis(self._K, steps, order // 2, self.span) @ self._coefficients
-            parts, col = [], 0
-            for X in self.spectra:
-                parts.append(values[:, col: col + X[0].size].reshape((-1,) + X.shape[1:]))
-                col += X[0].size
-            terms, a = magnus_terms(*parts)
+            basis = _angle_basis(self._stacked.harmonics, steps, order // 2, self.span)
+            terms, a = magnus_terms(*self._stacked.split(basis @ self._stacked.rows))
             if self.signs is not None:
                 terms = terms / (2.0 ** np.arange(terms.shape[0]))[:, None, None, None]
             self._terms[order, steps] = terms, a
