@@ -17,7 +17,13 @@ and the derivatives of the acceleration-level terms (Phi_t, gamma) are central
 differences of ``constraint_rates`` (step 1e-5 relative; gamma is quadratic in q', so only
 the q columns carry a truncation error, ~1e-11). An ODE (m = 0) uses f_q, f_q' and the
 mass Jacobian alone. Parameter sensitivities dG/dp (p = omega or a named parameter) are
-central differences of G in p (relative step 1e-5), used only in continuation borders.
+forward differences of G in p (relative step 1e-5), used only in continuation borders.
+
+Three right-hand sides, one mathematics: planar rigid-body DAEs run the fused kernel of
+``periodyn.kernels.rigid2d_flow``; ODEs with a constant mass the lean path (one force and
+one Jacobian call per stage, the rest in ``periodyn.kernels.ode_flow``; its omega
+sensitivity is exact in the time-scaling part, see :func:`_ode_rhs`); all others the NumPy
+path of :class:`Derivatives`.
 """
 
 from __future__ import annotations
@@ -163,10 +169,11 @@ def _ode_rhs(system, omega, tau0, y0, P, k, sens, ev, parameter, hp, w, PP, span
     n, kc = system.n, k + sens
     bN = b * N
     force, fjac = system.force, system.force_jacobians
-    Minv = np.ascontiguousarray(ev.Minv)
+    Minv = np.zeros((0, 0)) if np.array_equal(ev.M0, np.eye(n)) else np.ascontiguousarray(ev.Minv)
     explicit = sens and (parameter is not None or not _phase_only(system, omega, tau0, y0, P, span))
     scaling = float(parameter is None)
     none = np.zeros((b, n, n))  # Jacobians and df of a call that does not use them
+    work = np.empty(n * (kc + 2))
 
     def rhs(sigma, y):
         t = (tau0 + sigma) / omega
@@ -176,7 +183,7 @@ def _ode_rhs(system, omega, tau0, y0, P, k, sens, ev, parameter, hp, w, PP, span
         Kq, Kv = fjac(q, v, t, omega, P) if kc else (none, none)
         df = (force(q, v, (tau0 + sigma) / w, w, PP) - f) / hp if explicit else none[:, 0]
         out = np.empty_like(y)
-        ode_variational_rhs(y, f, Kq, Kv, df, Minv, float(omega), kc, int(sens), scaling, out)
+        ode_variational_rhs(y, f, Kq, Kv, df, Minv, float(omega), kc, int(sens), scaling, work, out)
         return out
 
     return rhs
