@@ -31,24 +31,41 @@ __all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "exp
 RTOL, ATOL = 1e-11, 1e-13
 
 
-def _coefficients(system: RheoLinear):
-    """Callable t -> (M, C, K, f) at time t (s)."""
+def _coefficients(system: RheoLinear, forced: bool = True):
+    """Callable t -> (M, C, K, f) at time t (s) ((M, C, K) when not ``forced``). From the
+    spectra X_l (l = -L..L) all matrices come from one real product: the real part of
+    sum_l X_l e^(i l omega t) is sum over l >= 0 of cos(l omega t) Re(X_l + X_-l) +
+    sin(l omega t) Im(X_-l - X_l), exactly."""
+    n = system.n
     if system.functions is not None:
         Mf, Cf, Kf, ff = system.functions
-        n = system.n
 
         def at(t):
-            return (np.asarray(Mf(t), float).reshape(n, n), np.asarray(Cf(t), float).reshape(n, n),
-                    np.asarray(Kf(t), float).reshape(n, n), np.asarray(ff(t), float).reshape(n))
+            out = (np.asarray(Mf(t), float).reshape(n, n), np.asarray(Cf(t), float).reshape(n, n),
+                   np.asarray(Kf(t), float).reshape(n, n))
+            return out + (np.asarray(ff(t), float).reshape(n),) if forced else out
 
         return at
     S = system.spectra
-    K = (S.mass.shape[0] - 1) // 2
-    k = np.arange(-K, K + 1)
+    X = [S.mass, S.damping, S.stiffness] + [S.force] * forced
+    L = (X[0].shape[0] - 1) // 2
+    flat = np.concatenate([x.reshape(2 * L + 1, -1) for x in X], axis=1)
+    pos, neg = flat[L:], flat[L::-1]  # X_l and X_-l for l = 0..L
+    rows = np.empty((2 * L + 2, flat.shape[1]))
+    rows[0::2] = (pos + neg).real
+    rows[1::2] = (neg - pos).imag
+    rows[0] *= 0.5  # l = 0 counted once
+    rows = rows[np.r_[0, 2:2 * L + 2]]  # (the l = 0 sine row is zero)
+    l = np.arange(1, L + 1)
+    sizes = np.cumsum([0] + [x[0].size for x in X])
+    shapes = [x.shape[1:] for x in X]
 
     def at(t):
-        e = np.exp(1j * k * system.omega * t)
-        return tuple(np.tensordot(e, X, 1).real for X in (S.mass, S.damping, S.stiffness, S.force))
+        theta = system.omega * t * l
+        w = np.empty(2 * L + 1)
+        w[0], w[1::2], w[2::2] = 1.0, np.cos(theta), np.sin(theta)
+        v = w @ rows
+        return tuple(v[a:b].reshape(sh) for a, b, sh in zip(sizes[:-1], sizes[1:], shapes))
 
     return at
 
@@ -73,18 +90,18 @@ def first_order_matrix(system: RheoLinear):
 def _free_motion(system: RheoLinear):
     """The unforced system ``q'' = -M^-1 (C q' + K q)`` as an ODE ``DAE`` (unit mass),
     evaluated from the exact callables when the system has them, else from its spectra."""
-    coeff = _coefficients(system)
+    coeff = _coefficients(system, forced=False)
     n = system.n
     last = [None, None]  # the flow asks for the force and its Jacobians at the same times
 
     def jacobians(q, qd, t, omega, P):
         t = np.asarray(t, float).reshape(-1)
         if last[0] is None or not np.array_equal(last[0], t):
-            Kq, Kv = np.empty((t.size, n, n)), np.empty((t.size, n, n))
+            KC = np.empty((t.size, n, 2 * n))
             for i, ti in enumerate(t):
-                M, C, K, _ = coeff(float(ti))
-                Kq[i], Kv[i] = -np.linalg.solve(M, K), -np.linalg.solve(M, C)
-            last[:] = t.copy(), (Kq, Kv)
+                M, C, K = coeff(float(ti))
+                KC[i] = -np.linalg.solve(M, np.concatenate([K, C], axis=1))
+            last[:] = t.copy(), (KC[:, :, :n], KC[:, :, n:])
         return last[1]
 
     def force(q, qd, t, omega, P):

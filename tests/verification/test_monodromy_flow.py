@@ -36,3 +36,25 @@ def test_exact_callables_are_used():
     T = 2 * np.pi / omega
     ref = flow(1.5, T / 4) @ flow(0.5, T / 2) @ flow(1.5, T / 4)
     np.testing.assert_allclose(monodromy_matrix(system), ref, rtol=0, atol=1e-6)
+
+
+def test_coefficients_at_a_time_are_the_fourier_sums_of_the_spectra():
+    """The one real product of the stacked spectra (timedomain._coefficients) against the
+    definition: the real part of sum_l X_l exp(i l omega t), l = -L..L, for M, C, K and f."""
+    from periodyn.timedomain import _coefficients
+
+    rng = np.random.default_rng(7)
+    p, n, omega = 13, 3, 2.5
+    theta = 2 * np.pi * np.arange(p) / p
+    M = np.eye(n) * (2 + 0.3 * np.cos(theta))[:, None, None] + 0.05 * rng.standard_normal((p, n, n))
+    system = RheoLinear.from_samples(M, rng.standard_normal((p, n, n)), rng.standard_normal((p, n, n)),
+                                     rng.standard_normal((p, n)), omega)
+    S = system.spectra
+    L = (S.mass.shape[0] - 1) // 2
+    at, free = _coefficients(system), _coefficients(system, forced=False)
+    for t in rng.uniform(0, 10, 5):
+        e = np.exp(1j * np.arange(-L, L + 1) * omega * t)
+        ref = [np.tensordot(e, X, 1).real for X in (S.mass, S.damping, S.stiffness, S.force)]
+        for got in (at(t), free(t) + (ref[3],)):
+            for x, r in zip(got, ref):
+                np.testing.assert_allclose(x, r, rtol=0, atol=1e-13 * np.abs(r).max())

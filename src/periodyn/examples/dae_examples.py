@@ -117,4 +117,4 @@ def duffing(zeta: float = 0.05, alpha: float = 1.0, F: float = 0.1, omega0: floa
         return (np.array([[-omega0 ** 2 - 3 * alpha * q[0] ** 2]]), np.array([[-2 * zeta * omega0]]))
 
     return DAE(np.eye(1), force, force_jacobian=force_jacobian, parameters={"F": F}, coordinate_names=("x",),
-               name="duffing")
+               name="duffing", phase_forcing=True)

@@ -67,6 +67,8 @@ class DAE:
       constraint_rates(q, qd, t, omega, params) -> (Phi_t, gamma) each (p,m), with
       ``Phi_q q'' = gamma`` (needed for time integration and shooting only).
     q0: (n,) reference configuration (Newton's starting point, close to Phi = 0).
+    phase_forcing: the force depends on omega and t only through omega t (see
+    :func:`_user_fields`).
     """
 
     n: int
@@ -80,7 +82,8 @@ class DAE:
                    constraint: Callable, constraint_jacobian: Callable, constraint_hessian: Callable,
                    constraint_rates: Callable | None, mass_jacobian: Callable | None = None, q0=None,
                    parameters: Mapping[str, float] | None = None, coordinate_names: Sequence[str] | None = None,
-                   constraint_names: Sequence[str] | None = None, name: str = "dae") -> "DAE":
+                   constraint_names: Sequence[str] | None = None, name: str = "dae",
+                   phase_forcing: bool = False) -> "DAE":
         """Build directly from batch evaluators (see the class docstring)."""
         obj = object.__new__(cls)
         obj.__dict__.update(
@@ -91,7 +94,7 @@ class DAE:
             parameters=dict(parameters or {}),
             coordinate_names=tuple(coordinate_names) if coordinate_names is not None else tuple(f"q{i}" for i in range(n)),
             constraint_names=tuple(constraint_names) if constraint_names is not None else tuple(f"lambda{i}" for i in range(m)),
-            name=name)
+            name=name, phase_forcing=bool(phase_forcing))
         return obj
 
     def with_parameters(self, **values: float) -> "DAE":
@@ -111,7 +114,7 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
               constraint_jacobian=None, constraint_hessian=None, constraint_rates=None,
               mass_jacobian=None, parameters: Mapping[str, float] | None = None, q0=None,
               coordinate_names: Sequence[str] | None = None, constraint_names: Sequence[str] | None = None,
-              name: str = "dae") -> dict:
+              name: str = "dae", phase_forcing: bool = False) -> dict:
     """Fields of ``periodyn.DAE(mass, force, constraint=None, ...)`` from per-point callables.
 
     mass: (n,n) array or callable ``mass(q)`` -> (n,n) (no parameters).
@@ -132,6 +135,9 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
       when ``mass`` is callable.
     parameters: named scalars passed as the last argument to every callable.
     q0: (n,) reference configuration (Newton's starting point).
+    phase_forcing: True declares that the force depends on omega and t only through the
+      phase omega t (e.g. ``F cos(omega t)``); the omega sensitivity of a shooting flow then
+      needs no extra force evaluation (checked when used).
     """
     params0 = dict(parameters) if parameters is not None else None
     extra = (lambda P: (P,)) if params0 is not None else (lambda P: ())
@@ -281,4 +287,4 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
     return DAE.from_batch(n=n, m=m, mass=mass_b, force=force_b, force_jacobians=fjac_b, constraint=phi_b,
                           constraint_jacobian=phiq_b, constraint_hessian=hess_b, constraint_rates=rates_b,
                           mass_jacobian=mjac_b, q0=q0a, parameters=params0 or {}, coordinate_names=names,
-                          constraint_names=cnames, name=name).__dict__
+                          constraint_names=cnames, name=name, phase_forcing=phase_forcing).__dict__

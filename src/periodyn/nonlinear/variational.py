@@ -17,7 +17,13 @@ and the derivatives of the acceleration-level terms (Phi_t, gamma) are central
 differences of ``constraint_rates`` (step 1e-5 relative; gamma is quadratic in q', so only
 the q columns carry a truncation error, ~1e-11). An ODE (m = 0) uses f_q, f_q' and the
 mass Jacobian alone. Parameter sensitivities dG/dp (p = omega or a named parameter) are
-central differences of G in p (relative step 1e-5), used only in continuation borders.
+forward differences of G in p (relative step 1e-5), used only in continuation borders.
+
+Three right-hand sides, one mathematics: planar rigid-body DAEs run the fused kernel of
+``periodyn.kernels.rigid2d_flow``; ODEs with a constant mass the lean path (one force and
+one Jacobian call per stage, the rest in ``periodyn.kernels.ode_flow``; its omega
+sensitivity is exact in the time-scaling part, see :func:`_ode_rhs`); all others the NumPy
+path of :class:`Derivatives`.
 """
 
 from __future__ import annotations
@@ -27,6 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import InputError
+from ..kernels.ode_flow import ode_variational_rhs
 from ..kernels.rigid2d_flow import variational_rhs
 from ..kernels.saddle import saddle_accelerations, saddle_jacobians
 from .integrate import baumgarte_rate, solve
@@ -145,6 +153,60 @@ def _parameter(system, omega, params, parameter, sign, h):
     return omega, dict(params, **{parameter: params[parameter] + sign * h})
 
 
+def _ode_rhs(system, omega, tau0, y0, P, k, sens, ev, parameter, hp, w, PP, span):
+    """Right-hand side of the lean path for ODEs with a constant mass M: per stage one
+    force call and, with columns, one force-Jacobian call; the rest is one jitted call
+    (:func:`periodyn.kernels.ode_flow.ode_variational_rhs`). The omega sensitivity is exact in its scaling part:
+    in phase time G(tau, y) = (q', M^-1 f(q, q', tau/omega, omega))/omega, so
+
+        dG/domega = -G/omega + (0, M^-1 df/domega|_tau)/omega,
+
+    where df/domega at fixed phase tau is zero for a force that depends on omega and t only
+    through omega t (``system.phase_forcing``, checked here on the start states) and else
+    a forward difference (relative step 1e-5). A named parameter p adds (0, M^-1 df/dp)/omega
+    (forward difference)."""
+    b, N = y0.shape
+    n, kc = system.n, k + sens
+    bN = b * N
+    force, fjac = system.force, system.force_jacobians
+    Minv = np.zeros((0, 0)) if np.array_equal(ev.M0, np.eye(n)) else np.ascontiguousarray(ev.Minv)
+    explicit = sens and (parameter is not None or not _phase_only(system, omega, tau0, y0, P, span))
+    scaling = float(parameter is None)
+    none = np.zeros((b, n, n))  # Jacobians and df of a call that does not use them
+    work = np.empty(n * (kc + 2))
+
+    def rhs(sigma, y):
+        t = (tau0 + sigma) / omega
+        Y = y[:bN].reshape(b, N)
+        q, v = Y[:, :n], Y[:, n:]
+        f = force(q, v, t, omega, P)
+        Kq, Kv = fjac(q, v, t, omega, P) if kc else (none, none)
+        df = (force(q, v, (tau0 + sigma) / w, w, PP) - f) / hp if explicit else none[:, 0]
+        out = np.empty_like(y)
+        ode_variational_rhs(y, f, Kq, Kv, df, Minv, float(omega), kc, int(sens), scaling, work, out)
+        return out
+
+    return rhs
+
+
+def _phase_only(system, omega, tau0, y0, P, span) -> bool:
+    """True when the model declares ``phase_forcing`` (force(q, q', t, omega) a function of
+    omega t only); the declaration is checked at two phases of the span, at the first start
+    state and a moved one (an InputError when the force moves with omega at a fixed phase)."""
+    if not getattr(system, "phase_forcing", False):
+        return False
+    n = system.n
+    tau = tau0[0] + np.array([0.37, 0.81]) * span
+    Y = np.stack([y0[0], 1.5 * y0[0] + 0.1])
+    q, v = Y[:, :n], Y[:, n:]
+    f0, f1 = (system.force(q, v, tau / w, w, P) for w in (omega, 1.001 * omega))
+    if not np.allclose(f0, f1, rtol=1e-9, atol=1e-12 * max(1.0, float(np.max(np.abs(f0))))):
+        raise InputError(f"model {system.name!r} declares phase_forcing, but its force changes with omega at a fixed "
+                         f"phase omega t (by {float(np.max(np.abs(f1 - f0))):.3g} for a 0.1 % change); drop "
+                         "phase_forcing=True or make the force a function of omega t only")
+    return True
+
+
 def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, parameter=None, params=None,
          rtol=1e-10, atol=1e-12, method="DOP853", baumgarte=None, t_eval=None) -> Flow:
     """Integrate b members from states y0 (b, 2n) at phases tau0 (b,) rad over ``span``
@@ -197,7 +259,9 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         return out / omega
 
     planar = getattr(system, "planar_arrays", None)
-    if planar is None:
+    if planar is None and system.m == 0 and ev.M0 is not None:  # constant-mass ODE: one force (+ Jacobian) call
+        rhs = _ode_rhs(system, omega, tau0, y0, P, k, sens, ev, parameter, hp, w, PP, span)
+    elif planar is None:
         rhs = python_rhs
     else:  # one jitted call per stage (periodyn.kernels.rigid2d_flow)
         (model, data), tau0c = planar, np.ascontiguousarray(tau0)
