@@ -5,7 +5,10 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
 
 - "banded": narrow, small bands; the jitted banded LU of :mod:`periodyn.kernels.banded`
   over the speeds;
-- "dense": stacked real LAPACK solves (the band couples nearly all harmonics). When the
+- "dense": stacked real LAPACK solves of the real HB matrices, evaluated from their
+  precomputed omega-power terms (the band couples nearly all harmonics: small systems, and
+  large ones whose dense LU is cheaper than the banded one while the terms fit in
+  DENSE_TERMS_BYTES; a chunk of a large one is a single speed). When the
   coefficients have a half-period symmetry ``X(theta + pi) = P X(theta) P``, P = diag(s)
   (:func:`periodyn.magnus.half_period_signs` of M, C and K), harmonic l of coordinate
   i couples only to harmonics l' of coordinates j with ``(-1)^l s_i = (-1)^l' s_j``: the
@@ -13,7 +16,13 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
   below 1e-12 of the largest entry, i.e. round-off of the sampled spectra) and is solved
   as two systems of half the size, about a quarter of the work. A class the forcing does
   not reach (its force harmonics below 1e-12 of the largest at every power of omega) has
-  the zero solution and is not solved;
+  the zero solution and is not solved. A class of ITERATIVE_MIN rows or more is solved by
+  GMRES (:func:`periodyn.nonlinear.krylov.gmres`, relative residual GMRES_RTOL) right-
+  preconditioned with the LU of its matrix at a previous speed (the reference, kept
+  between chunks): the matrix is an omega-polynomial, so near the reference speed
+  ``A(w_ref)^-1 A(w)`` is close to the identity and a few steps (about N^2 flops each)
+  replace an LU (N^3). Where GMRES_STEPS steps do not reach the tolerance the speed is
+  factorized and solved directly, and that factorization becomes the reference;
 - None: speed by speed with :func:`periodyn.hb.solve_balance` (banded LAPACK, dense or
   sparse LU, whichever :func:`periodyn.hb.balance_storage` estimates cheapest).
 
@@ -27,18 +36,24 @@ from __future__ import annotations
 from functools import cached_property
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs
 
 from ..errors import ConvergenceError, InputError
 from ..hb import AMPLIFICATION_MAX, RESIDUAL_MAX, amplification, balance_failure, balance_storage, singular_balance, solve_balance
 from ..kernels.banded import banded_solve_batch
+from ..nonlinear.krylov import gmres
 from .operator import HarmonicOperator
 from .pattern import _real_form_indices, from_real_basis
 
 __all__ = ["BalanceBatch", "symmetry_classes"]
 
 DENSE_BALANCE_MAX = 400  # size of the largest (class) system up to which speeds are stacked dense
+DENSE_TERMS_BYTES = 4e8  # memory of the real dense HB terms (PW, N, N) up to which a large dense HB takes them
 JIT_BANDED_MAX = 20_000  # N u^2 up to which the jitted banded LU beats a LAPACK call per speed
 COUPLING_RTOL = 1e-12  # couplings between symmetry classes below this fraction of the largest entry are round-off
+ITERATIVE_MIN = 1000  # rows of a dense class system from which it is solved by GMRES with a reference LU
+GMRES_RTOL = 1e-12  # relative residual of a GMRES solve
+GMRES_STEPS = 16  # GMRES steps before the speed is factorized (about a tenth of an LU at ITERATIVE_MIN rows)
 
 
 def symmetry_classes(m: int, n: int, signs: np.ndarray | None) -> tuple[np.ndarray, ...]:
@@ -66,8 +81,11 @@ class BalanceBatch:
         self.storage = balance_storage(pat)
         self.signs = signs
         largest = max(rows.size for rows in symmetry_classes(op.m, op.n, signs))
+        small = not pat.narrow and largest <= DENSE_BALANCE_MAX
+        large = self.storage.kind == "dense" and 8.0 * len(op.W) * pat.size**2 <= DENSE_TERMS_BYTES
         self.kind = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= JIT_BANDED_MAX else
-                     "dense" if not pat.narrow and largest <= DENSE_BALANCE_MAX else None)
+                     "dense" if small or large else None)
+        self.references: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # LU of each large class at a past speed
 
     @cached_property
     def dense_blocks(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
@@ -112,10 +130,14 @@ class BalanceBatch:
             pw = np.asarray(w, float)[:, None] ** np.arange(len(op.W))
             b = pw[:, : len(op.real_rhs)] @ op.real_rhs
             y, squares = np.zeros_like(b), np.zeros(w.size)
-            for rows, terms, rhs in self.dense_blocks:
+            for c, (rows, terms, rhs) in enumerate(self.dense_blocks):
                 k = rows.size
                 A = (pw @ terms).reshape(w.size, k, k)
-                y[:, rows], r = _stacked_solve(A, pw[:, : len(rhs)] @ rhs, w, message)
+                bc = pw[:, : len(rhs)] @ rhs
+                if k >= ITERATIVE_MIN:
+                    y[:, rows], r = self._krylov_solve(A, bc, w, message, c)
+                else:
+                    y[:, rows], r = _stacked_solve(A, bc, w, message)
                 squares += r**2
             residual = np.sqrt(squares)
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
@@ -129,6 +151,28 @@ class BalanceBatch:
         q[message != ""] = 0.0
         return q, residual, message
 
+    def _krylov_solve(self, A: np.ndarray, b: np.ndarray, w: np.ndarray, message: np.ndarray,
+                      c: int) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_stacked_solve` for the large class c: GMRES preconditioned with the
+        reference LU of the class, else an LU of the speed's own matrix (the new reference)."""
+        y = np.zeros_like(b)
+        for i in range(w.size):
+            reference = self.references.get(c)
+            if reference is not None:
+                x, rel, _ = gmres(A[i].__matmul__, b[i], lambda v, lu=reference: _lu_solve(lu, v), rtol=GMRES_RTOL,
+                                  max_steps=GMRES_STEPS)
+                if rel <= GMRES_RTOL:
+                    y[i] = x
+                    continue
+            lu, piv, info = dgetrf(A[i])
+            if info > 0:  # exactly singular (an undamped resonance): no reference from it
+                self.references.pop(c, None)
+                message[i] = str(singular_balance(w[i], f"zero pivot in column {info - 1}"))
+                continue
+            self.references[c] = (lu, piv)
+            y[i] = _lu_solve((lu, piv), b[i])
+        return y, np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+
     def _one_by_one(self, w: np.ndarray, message: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         op = self.operator
         q, residual = np.zeros((w.size, 2 * op.m + 1, op.n), complex), np.full(w.size, np.nan)
@@ -139,6 +183,11 @@ class BalanceBatch:
             except (InputError, ConvergenceError) as exc:  # singular (InputError) or inaccurate
                 message[i] = str(exc)
         return q, residual, message
+
+
+def _lu_solve(lu: tuple[np.ndarray, np.ndarray], v: np.ndarray) -> np.ndarray:
+    """x with A x = v from the LAPACK LU (factors, pivots) of A."""
+    return dgetrs(*lu, v)[0]
 
 
 def _stacked_solve(A: np.ndarray, b: np.ndarray, w: np.ndarray, message: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
