@@ -86,6 +86,7 @@ class BalanceBatch:
         self.kind = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= JIT_BANDED_MAX else
                      "dense" if small or large else None)
         self.references: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # LU of each large class at a past speed
+        self.factorizations = 0  # LUs taken by the GMRES path (its speeds solved without one are the gain)
 
     @cached_property
     def dense_blocks(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
@@ -165,6 +166,7 @@ class BalanceBatch:
                     y[i] = x
                     continue
             lu, piv, info = dgetrf(A[i])
+            self.factorizations += 1
             if info > 0:  # exactly singular (an undamped resonance): no reference from it
                 self.references.pop(c, None)
                 message[i] = str(singular_balance(w[i], f"zero pivot in column {info - 1}"))
