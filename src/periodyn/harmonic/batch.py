@@ -105,7 +105,8 @@ class BalanceBatch:
         for rows in classes:
             if len(classes) > 1 and forcing[rows].max() <= COUPLING_RTOL * forcing.max():
                 continue  # not forced (round-off of the sampled force): zero solution
-            sub = np.ascontiguousarray(terms[:, rows][:, :, rows]).reshape(len(terms), -1)
+            whole = len(classes) == 1  # all rows: the terms themselves, not a copy
+            sub = (terms if whole else np.ascontiguousarray(terms[:, rows][:, :, rows])).reshape(len(terms), -1)
             blocks.append((rows, sub, np.ascontiguousarray(rhs[:, rows])))
         return tuple(blocks)
 
