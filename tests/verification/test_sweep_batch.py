@@ -111,7 +111,8 @@ def test_iterative_balance_equals_direct_lu(monkeypatch):
     """GMRES preconditioned with the LU at an earlier speed (the large-system HB path, here
     at the slider-crank's size N = 100) against the stacked direct solve, over 150-300
     rad/s through the resonances: the same harmonics to the GMRES tolerance amplified by
-    the condition, residuals <= 1e-12, and most speeds solved without an LU of their own."""
+    the condition, residuals <= 1e-12, and most speeds solved without an LU of their own;
+    where single precision cannot hold the matrix, the double-precision LU of every speed."""
     model = periodyn.examples.slider_crank(damping=0.02)
     speeds = np.linspace(150.0, 300.0, 61)
     direct = SpeedSolver(model, 12, stability=False)
@@ -124,3 +125,8 @@ def test_iterative_balance_equals_direct_lu(monkeypatch):
     scale = np.abs(reference.output_harmonics).max(axis=(1, 2), keepdims=True)
     assert np.abs(iterative - reference.output_harmonics).max() / scale.min() < 1e-10
     assert (solver.solve_many(speeds).residual <= 1.01 * batch_module.GMRES_RTOL).all()
+    monkeypatch.setattr(batch_module, "SINGLE_MAX", 0.0)  # entries beyond single precision: double LU per speed
+    fallback = SpeedSolver(model, 12, stability=False)
+    direct = fallback.solve_many(speeds)
+    assert fallback.balance.factorizations == speeds.size and direct.residual.max() < 1e-14
+    np.testing.assert_allclose(direct.output_harmonics, reference.output_harmonics, rtol=0, atol=1e-13 * scale.min())

@@ -18,11 +18,12 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
   not reach (its force harmonics below 1e-12 of the largest at every power of omega) has
   the zero solution and is not solved. A class of ITERATIVE_MIN rows or more is solved by
   GMRES (:func:`periodyn.nonlinear.krylov.gmres`, relative residual GMRES_RTOL) right-
-  preconditioned with the LU of its matrix at a previous speed (the reference, kept
-  between chunks): the matrix is an omega-polynomial, so near the reference speed
-  ``A(w_ref)^-1 A(w)`` is close to the identity and a few steps (about N^2 flops each)
-  replace an LU (N^3). Where GMRES_STEPS steps do not reach the tolerance the speed is
-  factorized and solved directly, and that factorization becomes the reference;
+  preconditioned with the single-precision LU of its matrix at a previous speed (the
+  reference, kept between chunks): the matrix is an omega-polynomial, so near the
+  reference speed ``A(w_ref)^-1 A(w)`` is close to the identity and a few steps (about
+  N^2 flops each) replace an LU (N^3). Where GMRES_STEPS steps do not reach the
+  tolerance the speed's own matrix is factorized and becomes the reference (and where
+  that does not converge either, a double-precision LU solves the speed directly);
 - None: speed by speed with :func:`periodyn.hb.solve_balance` (banded LAPACK, dense or
   sparse LU, whichever :func:`periodyn.hb.balance_storage` estimates cheapest).
 
@@ -36,7 +37,7 @@ from __future__ import annotations
 from functools import cached_property
 
 import numpy as np
-from scipy.linalg.lapack import dgetrf, dgetrs
+from scipy.linalg.lapack import dgetrf, dgetrs, sgetrf, sgetrs
 
 from ..errors import ConvergenceError, InputError
 from ..hb import AMPLIFICATION_MAX, RESIDUAL_MAX, amplification, balance_failure, balance_storage, singular_balance, solve_balance
@@ -54,6 +55,7 @@ COUPLING_RTOL = 1e-12  # couplings between symmetry classes below this fraction 
 ITERATIVE_MIN = 1000  # rows of a dense class system from which it is solved by GMRES with a reference LU
 GMRES_RTOL = 1e-12  # relative residual of a GMRES solve
 GMRES_STEPS = 16  # GMRES steps before the speed is factorized (about a tenth of an LU at ITERATIVE_MIN rows)
+SINGLE_MAX = 1e30  # largest matrix entry for which the reference LU is taken in single precision
 
 
 def symmetry_classes(m: int, n: int, signs: np.ndarray | None) -> tuple[np.ndarray, ...]:
@@ -156,25 +158,39 @@ class BalanceBatch:
     def _krylov_solve(self, A: np.ndarray, b: np.ndarray, w: np.ndarray, message: np.ndarray,
                       c: int) -> tuple[np.ndarray, np.ndarray]:
         """:func:`_stacked_solve` for the large class c: GMRES preconditioned with the
-        reference LU of the class, else an LU of the speed's own matrix (the new reference)."""
+        reference LU of the class (single precision: half the memory traffic per step and
+        half the factorization; GMRES on the double-precision matrix still reaches
+        GMRES_RTOL), else with the LU of the speed's own matrix (the new reference); where
+        that fails too (singular or too ill-conditioned in single precision, or entries
+        beyond its range) the double-precision LU solves the speed directly."""
         y = np.zeros_like(b)
         for i in range(w.size):
-            reference = self.references.get(c)
-            if reference is not None:
-                x, rel, _ = gmres(A[i].__matmul__, b[i], lambda v, lu=reference: _lu_solve(lu, v), rtol=GMRES_RTOL,
-                                  max_steps=GMRES_STEPS)
-                if rel <= GMRES_RTOL:
-                    y[i] = x
-                    continue
-            lu, piv, info = dgetrf(A[i])
-            self.factorizations += 1
-            if info > 0:  # exactly singular (an undamped resonance): no reference from it
+            x = self._gmres(A[i], b[i], c)
+            if x is None and np.abs(A[i]).max() < SINGLE_MAX:
+                lu, piv, info = sgetrf(A[i].astype(np.float32))
+                self.factorizations += 1
                 self.references.pop(c, None)
-                message[i] = str(singular_balance(w[i], f"zero pivot in column {info - 1}"))
-                continue
-            self.references[c] = (lu, piv)
-            y[i] = _lu_solve((lu, piv), b[i])
+                if info == 0:
+                    self.references[c] = (lu, piv)
+                    x = self._gmres(A[i], b[i], c)
+            if x is None:
+                lu, piv, info = dgetrf(A[i])
+                self.factorizations += 1
+                if info > 0:  # exactly singular (an undamped resonance)
+                    message[i] = str(singular_balance(w[i], f"zero pivot in column {info - 1}"))
+                    continue
+                x = dgetrs(lu, piv, b[i])[0]
+            y[i] = x
         return y, np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+
+    def _gmres(self, A: np.ndarray, b: np.ndarray, c: int) -> np.ndarray | None:
+        """x with |A x - b| <= GMRES_RTOL |b| by GMRES with the reference of class c, or None."""
+        reference = self.references.get(c)
+        if reference is None:
+            return None
+        x, rel, _ = gmres(A.__matmul__, b, lambda v: sgetrs(*reference, v.astype(np.float32))[0].astype(float),
+                          rtol=GMRES_RTOL, max_steps=GMRES_STEPS)
+        return x if rel <= GMRES_RTOL else None
 
     def _one_by_one(self, w: np.ndarray, message: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         op = self.operator
@@ -186,11 +202,6 @@ class BalanceBatch:
             except (InputError, ConvergenceError) as exc:  # singular (InputError) or inaccurate
                 message[i] = str(exc)
         return q, residual, message
-
-
-def _lu_solve(lu: tuple[np.ndarray, np.ndarray], v: np.ndarray) -> np.ndarray:
-    """x with A x = v from the LAPACK LU (factors, pivots) of A."""
-    return dgetrs(*lu, v)[0]
 
 
 def _stacked_solve(A: np.ndarray, b: np.ndarray, w: np.ndarray, message: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
