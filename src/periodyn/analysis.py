@@ -20,7 +20,7 @@ from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch import BalanceBatch
 from .hb import periodic_solution
 from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
-                   dense_exponents_batch, hill_cost, magnus_reason, method_costs, operator_exponents)
+                   dense_exponents_batch, hill_costs_many, magnus_reason, operator_exponents)
 from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .spectra import synthesize
@@ -182,11 +182,7 @@ class SpeedSolver:
         w = check_speeds(omegas)
         if self.method != "auto":
             return [(self.method, "requested", np.inf)] * w.size
-        dense, per_shift = method_costs(self.pattern)
-        if dense <= per_shift:  # no speed dependence: even one ARPACK shift costs more
-            method, seconds, reason = hill_cost(self.harmonic.at(w[0]))
-            return [(method, reason, seconds)] * w.size
-        return [(m, r, c) for m, c, r in (hill_cost(self.harmonic.at(wi)) for wi in w)]
+        return [(m, r, c) for m, c, r in hill_costs_many(self.harmonic, w)]
 
     def stability_methods(self, omegas) -> list[tuple[str, str]]:
         """Stability method at each speed (rad/s) and why (for "auto": Magnus where its

@@ -47,7 +47,7 @@ from .magnus import MagnusLadder
 from .timedomain import monodromy_exponents
 
 __all__ = ["FloquetExponents", "characteristic_exponents", "hill_exponents", "METHODS", "choose_method",
-           "method_costs", "hill_cost", "auto_exponents"]
+           "method_costs", "hill_cost", "hill_costs_many", "auto_exponents"]
 
 METHODS = ("auto", "sparse", "dense", "monodromy", "magnus")
 
@@ -109,11 +109,30 @@ def choose_method(op: HillOperator) -> tuple[str, str]:
 
 def hill_cost(op: HillOperator) -> tuple[str, float, str]:
     """:func:`choose_method` with the estimated seconds of the chosen Hill method."""
-    dense, per_shift, cheap = _costs(op.pattern.size, op.pattern.half_bandwidth, op.n)
+    pat = op.pattern
+    dense, per_shift, _ = _costs(pat.size, pat.half_bandwidth, op.n)
+    return _hill_choice(pat, op.n, 0 if dense <= per_shift else _shift_frequencies(op).size)
+
+
+def hill_costs_many(harmonic: HarmonicOperator, omegas: np.ndarray) -> list[tuple[str, float, str]]:
+    """:func:`hill_cost` at speeds (S,) rad/s from the omega-polynomial operator, without
+    evaluating the whole operator per speed: the shift count needs only its mean block."""
+    pat, n = harmonic.pattern, harmonic.n
+    dense, per_shift, _ = _costs(pat.size, pat.half_bandwidth, n)
+    if dense <= per_shift:
+        return [_hill_choice(pat, n, 0)] * len(omegas)
+    W0, V0, M0 = harmonic.mean_blocks_many(omegas)
+    tops = _top_frequencies(W0, V0, M0)
+    return [_hill_choice(pat, n, _shift_grid(top, w, pat.m).size) for top, w in zip(tops, omegas)]
+
+
+def _hill_choice(pat: BlockPattern, n: int, shifts: int) -> tuple[str, float, str]:
+    """The cheaper Hill method, its estimated seconds and why, with ``shifts`` ARPACK
+    shifts for sparse (0: dense costs less than one shift)."""
+    dense, per_shift, cheap = _costs(pat.size, pat.half_bandwidth, n)
     if dense <= per_shift:
         return "dense", dense, cheap
-    size = f"size {2 * op.pattern.size}, band {op.pattern.half_bandwidth}"
-    shifts = _shift_frequencies(op).size
+    size = f"size {2 * pat.size}, band {pat.half_bandwidth}"
     method = "dense" if dense <= shifts * per_shift else "sparse"
     return (method, min(dense, shifts * per_shift),
             f"estimated dense {dense:.2g} s vs sparse {shifts * per_shift:.2g} s ({shifts} shifts, {size})")
@@ -211,12 +230,25 @@ def _shift_frequencies(op: HillOperator) -> np.ndarray:
     """Imaginary parts (rad/s, >= 0) of the shift-invert centres: from 0 up to the highest
     vibration frequency of the mean system (l = 0 block), spaced m*omega/2 so that every
     exponent has a computed cluster member with centroid |c| <= m/4."""
-    pat, n = op.pattern, op.n
-    centre = np.nonzero((pat.k_index == 0) & (pat.l_index == 0))[0][0]
-    W0, V0, M0 = (b[centre] for b in op.blocks)
-    companion = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M0, W0), -np.linalg.solve(M0, V0)]])
-    top = np.abs(np.linalg.eigvals(companion).imag).max()
-    spacing = max(op.omega, 0.5 * op.m * op.omega)
+    centre = op.pattern.centre_block
+    top = _top_frequencies(*(b[centre][None] for b in op.blocks[:2]), op.blocks[2][centre])[0]
+    return _shift_grid(top, op.omega, op.m)
+
+
+def _top_frequencies(W0: np.ndarray, V0: np.ndarray, M0: np.ndarray) -> np.ndarray:
+    """Highest vibration frequency (rad/s) of the mean systems M0 s^2 + V0 s + W0 with
+    W0, V0 (S, n, n) and M0 (n, n): the largest |Im| of the companion eigenvalues, (S,)."""
+    S, n = W0.shape[:2]
+    companion = np.zeros((S, 2 * n, 2 * n), dtype=complex)
+    companion[:, :n, n:] = np.eye(n)
+    companion[:, n:, :n] = -np.linalg.solve(M0, W0)
+    companion[:, n:, n:] = -np.linalg.solve(M0, V0)
+    return np.abs(np.linalg.eigvals(companion).imag).max(axis=1)
+
+
+def _shift_grid(top: float, omega: float, m: int) -> np.ndarray:
+    """Shift centres from 0 to ``top`` rad/s spaced max(omega, m omega / 2)."""
+    spacing = max(omega, 0.5 * m * omega)
     count = int(np.ceil(top / spacing)) + 1
     return np.linspace(0.0, spacing * (count - 1), count)
 

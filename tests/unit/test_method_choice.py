@@ -7,7 +7,7 @@ from periodyn.analysis import SpeedSolver
 from periodyn.examples.chain import parametric_chain
 from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model
 from periodyn.harmonic import HarmonicOperator
-from periodyn.hill import choose_method, operator_exponents
+from periodyn.hill import choose_method, hill_cost, hill_costs_many, operator_exponents
 from periodyn.linearize import omega_split
 
 
@@ -23,6 +23,18 @@ def test_auto_takes_sparse_for_a_large_soft_system_and_dense_for_a_stiff_one():
     crank = omega_split(slider_crank_model(0.04 / w1, rod_elements=8), 64)
     op = HarmonicOperator.for_model(crank, 12).at(200.0)
     assert 2 * op.pattern.size == 800 and choose_method(op)[0] == "dense"
+
+
+def test_costs_over_a_sweep_equal_the_per_operator_costs():
+    """The sweep's cost estimates (shift counts from the mean blocks alone) are those of
+    the full operator at each speed, on both sides of the dense/sparse choice."""
+    chain = HarmonicOperator.for_model(parametric_chain(20, samples=88), 20)
+    w1 = first_bending_frequency(slider_crank_model(0.0, rod_elements=8))
+    crank = HarmonicOperator.for_model(omega_split(slider_crank_model(0.04 / w1, rod_elements=8), 64), 12)
+    for harmonic, speeds in ((chain, [5.0, 33.3, 80.0]), (crank, [150.0, 220.0, 300.0])):
+        many = hill_costs_many(harmonic, np.array(speeds))
+        assert many == [hill_cost(harmonic.at(w)) for w in speeds]
+    assert {c[0] for c in hill_costs_many(chain, np.array([33.3]))} == {"sparse"}
 
 
 def test_auto_records_its_choice_and_equals_the_chosen_method():

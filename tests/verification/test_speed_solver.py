@@ -7,6 +7,7 @@ import pytest
 import periodyn
 from periodyn.analysis import SpeedSolver, solve_point
 from periodyn.examples.chain import parametric_chain
+import periodyn.harmonic.batch as batch_module
 
 from ..conftest import assert_same_spectrum
 
@@ -102,13 +103,21 @@ def _forced_oscillator(k):
                                                  [np.cos(theta)[:, None]])
 
 
-@pytest.mark.parametrize("path", ["banded", "dense", None])
-def test_undamped_resonance_names_the_speed(path):
+def _on_path(solver, path, monkeypatch):
+    """Make the solver take HB path "banded", "dense", None (per speed) or "iterative"
+    (the dense path's GMRES with a reference LU, here at any size)."""
+    if path == "iterative":
+        monkeypatch.setattr(batch_module, "ITERATIVE_MIN", 1)
+    solver.batch_balance = "dense" if path == "iterative" else path
+
+
+@pytest.mark.parametrize("path", ["banded", "dense", None, "iterative"])
+def test_undamped_resonance_names_the_speed(path, monkeypatch):
     """q'' + q = cos(theta): the HB matrix is exactly singular where l omega = 1. In a
     batch of speeds that speed is a failed point with the reason (the others are solved,
-    by each HB path: jitted banded, stacked dense, per speed); alone it raises."""
+    by each HB path: jitted banded, stacked dense, per speed, GMRES); alone it raises."""
     solver = SpeedSolver(_forced_oscillator(1.0), 3, stability=False)
-    solver.batch_balance = path
+    _on_path(solver, path, monkeypatch)
     batch = solver.solve_many([0.3, 0.7, 1.0, 2.0])  # (l omega)^2 = 1 only at omega = 1 for |l| <= 3
     assert "singular at omega = 1 rad/s" in batch.message[2] and "add damping or move omega" in batch.message[2]
     assert list(batch.message != "") == [False, False, True, False]
@@ -121,14 +130,14 @@ def test_undamped_resonance_names_the_speed(path):
         periodyn.periodic_solution(solver.model.at(1.0), 3)
 
 
-@pytest.mark.parametrize("path", ["banded", "dense", None])
-def test_speed_within_rounding_of_an_undamped_resonance_is_a_failed_point(path):
+@pytest.mark.parametrize("path", ["banded", "dense", None, "iterative"])
+def test_speed_within_rounding_of_an_undamped_resonance_is_a_failed_point(path, monkeypatch):
     """q'' + 2 q = cos(theta) near omega = sqrt(2): not exactly singular in floating point,
     but the forcing is amplified ~1/|2 - omega^2| times. Within 1e-12 of the resonance
     (amplification 1e12 > 4.5e9) the point fails with the reason; 1e-6 away the large
     response (3.5e5) is solved and exact to 1e-8."""
     solver = SpeedSolver(_forced_oscillator(2.0), 3, stability=False)
-    solver.batch_balance = path
+    _on_path(solver, path, monkeypatch)
     w = np.sqrt(2.0) * np.array([1.0, 1.0 + 1e-12, 1.0 + 1e-6])
     batch = solver.solve_many(w)
     for i in (0, 1):

@@ -7,6 +7,7 @@ import pytest
 
 import periodyn
 from periodyn.analysis import SpeedSolver, solve_point
+import periodyn.harmonic.batch as batch_module
 from periodyn.harmonic.batch import symmetry_classes
 from periodyn.magnus import half_period_signs
 
@@ -104,3 +105,28 @@ def test_sweep_equals_the_point_by_point_sweep(cardan, stability):
     if stability:
         np.testing.assert_allclose(fast["max_real_exponent"].values, slow["max_real_exponent"].values, rtol=0,
                                    atol=1e-9)
+
+
+def test_iterative_balance_equals_direct_lu(monkeypatch):
+    """GMRES preconditioned with the LU at an earlier speed (the large-system HB path, here
+    at the slider-crank's size N = 100) against the stacked direct solve, over 150-300
+    rad/s through the resonances: the same harmonics to the GMRES tolerance amplified by
+    the condition, residuals <= 1e-12, and most speeds solved without an LU of their own;
+    where single precision cannot hold the matrix, the double-precision LU of every speed."""
+    model = periodyn.examples.slider_crank(damping=0.02)
+    speeds = np.linspace(150.0, 300.0, 61)
+    direct = SpeedSolver(model, 12, stability=False)
+    assert direct.batch_balance == "dense" and direct.pattern.size < batch_module.ITERATIVE_MIN
+    reference = direct.solve_many(speeds)
+    monkeypatch.setattr(batch_module, "ITERATIVE_MIN", 1)
+    solver = SpeedSolver(model, 12, stability=False)
+    iterative = np.concatenate([solver.solve_many(speeds[i: i + 4]).output_harmonics for i in range(0, 61, 4)])
+    assert 1 <= solver.balance.factorizations <= speeds.size // 3
+    scale = np.abs(reference.output_harmonics).max(axis=(1, 2), keepdims=True)
+    assert np.abs(iterative - reference.output_harmonics).max() / scale.min() < 1e-10
+    assert (solver.solve_many(speeds).residual <= 1.01 * batch_module.GMRES_RTOL).all()
+    monkeypatch.setattr(batch_module, "SINGLE_MAX", 0.0)  # entries beyond single precision: double LU per speed
+    fallback = SpeedSolver(model, 12, stability=False)
+    direct = fallback.solve_many(speeds)
+    assert fallback.balance.factorizations == speeds.size and direct.residual.max() < 1e-14
+    np.testing.assert_allclose(direct.output_harmonics, reference.output_harmonics, rtol=0, atol=1e-13 * scale.min())

@@ -5,7 +5,10 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
 
 - "banded": narrow, small bands; the jitted banded LU of :mod:`periodyn.kernels.banded`
   over the speeds;
-- "dense": stacked real LAPACK solves (the band couples nearly all harmonics). When the
+- "dense": stacked real LAPACK solves of the real HB matrices, evaluated from their
+  precomputed omega-power terms (the band couples nearly all harmonics: small systems, and
+  large ones whose dense LU is cheaper than the banded one while the terms fit in
+  DENSE_TERMS_BYTES; a chunk of a large one is a single speed). When the
   coefficients have a half-period symmetry ``X(theta + pi) = P X(theta) P``, P = diag(s)
   (:func:`periodyn.magnus.half_period_signs` of M, C and K), harmonic l of coordinate
   i couples only to harmonics l' of coordinates j with ``(-1)^l s_i = (-1)^l' s_j``: the
@@ -13,7 +16,14 @@ the HB systems ``W(w) x = f(w)`` of a chunk of speeds together, by one of three 
   below 1e-12 of the largest entry, i.e. round-off of the sampled spectra) and is solved
   as two systems of half the size, about a quarter of the work. A class the forcing does
   not reach (its force harmonics below 1e-12 of the largest at every power of omega) has
-  the zero solution and is not solved;
+  the zero solution and is not solved. A class of ITERATIVE_MIN rows or more is solved by
+  GMRES (:func:`periodyn.nonlinear.krylov.gmres`, relative residual GMRES_RTOL) right-
+  preconditioned with the single-precision LU of its matrix at a previous speed (the
+  reference, kept between chunks): the matrix is an omega-polynomial, so near the
+  reference speed ``A(w_ref)^-1 A(w)`` is close to the identity and a few steps (about
+  N^2 flops each) replace an LU (N^3). Where GMRES_STEPS steps do not reach the
+  tolerance the speed's own matrix is factorized and becomes the reference (and where
+  that does not converge either, a double-precision LU solves the speed directly);
 - None: speed by speed with :func:`periodyn.hb.solve_balance` (banded LAPACK, dense or
   sparse LU, whichever :func:`periodyn.hb.balance_storage` estimates cheapest).
 
@@ -27,18 +37,25 @@ from __future__ import annotations
 from functools import cached_property
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs, sgetrf, sgetrs
 
 from ..errors import ConvergenceError, InputError
 from ..hb import AMPLIFICATION_MAX, RESIDUAL_MAX, amplification, balance_failure, balance_storage, singular_balance, solve_balance
 from ..kernels.banded import banded_solve_batch
+from ..nonlinear.krylov import gmres
 from .operator import HarmonicOperator
 from .pattern import _real_form_indices, from_real_basis
 
 __all__ = ["BalanceBatch", "symmetry_classes"]
 
 DENSE_BALANCE_MAX = 400  # size of the largest (class) system up to which speeds are stacked dense
+DENSE_TERMS_BYTES = 4e8  # memory of the real dense HB terms (PW, N, N) up to which a large dense HB takes them
 JIT_BANDED_MAX = 20_000  # N u^2 up to which the jitted banded LU beats a LAPACK call per speed
 COUPLING_RTOL = 1e-12  # couplings between symmetry classes below this fraction of the largest entry are round-off
+ITERATIVE_MIN = 1000  # rows of a dense class system from which it is solved by GMRES with a reference LU
+GMRES_RTOL = 1e-12  # relative residual of a GMRES solve
+GMRES_STEPS = 16  # GMRES steps before the speed is factorized (about a tenth of an LU at ITERATIVE_MIN rows)
+SINGLE_MAX = 1e30  # largest matrix entry for which the reference LU is taken in single precision
 
 
 def symmetry_classes(m: int, n: int, signs: np.ndarray | None) -> tuple[np.ndarray, ...]:
@@ -66,8 +83,12 @@ class BalanceBatch:
         self.storage = balance_storage(pat)
         self.signs = signs
         largest = max(rows.size for rows in symmetry_classes(op.m, op.n, signs))
+        small = not pat.narrow and largest <= DENSE_BALANCE_MAX
+        large = self.storage.kind == "dense" and 8.0 * len(op.W) * pat.size**2 <= DENSE_TERMS_BYTES
         self.kind = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= JIT_BANDED_MAX else
-                     "dense" if not pat.narrow and largest <= DENSE_BALANCE_MAX else None)
+                     "dense" if small or large else None)
+        self.references: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # LU of each large class at a past speed
+        self.factorizations = 0  # LUs taken by the GMRES path (its speeds solved without one are the gain)
 
     @cached_property
     def dense_blocks(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]:
@@ -86,7 +107,8 @@ class BalanceBatch:
         for rows in classes:
             if len(classes) > 1 and forcing[rows].max() <= COUPLING_RTOL * forcing.max():
                 continue  # not forced (round-off of the sampled force): zero solution
-            sub = np.ascontiguousarray(terms[:, rows][:, :, rows]).reshape(len(terms), -1)
+            whole = len(classes) == 1  # all rows: the terms themselves, not a copy
+            sub = (terms if whole else np.ascontiguousarray(terms[:, rows][:, :, rows])).reshape(len(terms), -1)
             blocks.append((rows, sub, np.ascontiguousarray(rhs[:, rows])))
         return tuple(blocks)
 
@@ -112,10 +134,14 @@ class BalanceBatch:
             pw = np.asarray(w, float)[:, None] ** np.arange(len(op.W))
             b = pw[:, : len(op.real_rhs)] @ op.real_rhs
             y, squares = np.zeros_like(b), np.zeros(w.size)
-            for rows, terms, rhs in self.dense_blocks:
+            for c, (rows, terms, rhs) in enumerate(self.dense_blocks):
                 k = rows.size
                 A = (pw @ terms).reshape(w.size, k, k)
-                y[:, rows], r = _stacked_solve(A, pw[:, : len(rhs)] @ rhs, w, message)
+                bc = pw[:, : len(rhs)] @ rhs
+                if k >= ITERATIVE_MIN:
+                    y[:, rows], r = self._krylov_solve(A, bc, w, message, c)
+                else:
+                    y[:, rows], r = _stacked_solve(A, bc, w, message)
                 squares += r**2
             residual = np.sqrt(squares)
             q = from_real_basis(y[..., None], m, n, halves=1)[..., 0].reshape(-1, 2 * m + 1, n)
@@ -128,6 +154,43 @@ class BalanceBatch:
             message[i] = balance_failure(w[i], residual[i], amplified[i], kind)
         q[message != ""] = 0.0
         return q, residual, message
+
+    def _krylov_solve(self, A: np.ndarray, b: np.ndarray, w: np.ndarray, message: np.ndarray,
+                      c: int) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_stacked_solve` for the large class c: GMRES preconditioned with the
+        reference LU of the class (single precision: half the memory traffic per step and
+        half the factorization; GMRES on the double-precision matrix still reaches
+        GMRES_RTOL), else with the LU of the speed's own matrix (the new reference); where
+        that fails too (singular or too ill-conditioned in single precision, or entries
+        beyond its range) the double-precision LU solves the speed directly."""
+        y = np.zeros_like(b)
+        for i in range(w.size):
+            x = self._gmres(A[i], b[i], c)
+            if x is None and np.abs(A[i]).max() < SINGLE_MAX:
+                lu, piv, info = sgetrf(A[i].astype(np.float32))
+                self.factorizations += 1
+                self.references.pop(c, None)
+                if info == 0:
+                    self.references[c] = (lu, piv)
+                    x = self._gmres(A[i], b[i], c)
+            if x is None:
+                lu, piv, info = dgetrf(A[i])
+                self.factorizations += 1
+                if info > 0:  # exactly singular (an undamped resonance)
+                    message[i] = str(singular_balance(w[i], f"zero pivot in column {info - 1}"))
+                    continue
+                x = dgetrs(lu, piv, b[i])[0]
+            y[i] = x
+        return y, np.linalg.norm(np.einsum("sij,sj->si", A, y) - b, axis=1)
+
+    def _gmres(self, A: np.ndarray, b: np.ndarray, c: int) -> np.ndarray | None:
+        """x with |A x - b| <= GMRES_RTOL |b| by GMRES with the reference of class c, or None."""
+        reference = self.references.get(c)
+        if reference is None:
+            return None
+        x, rel, _ = gmres(A.__matmul__, b, lambda v: sgetrs(*reference, v.astype(np.float32))[0].astype(float),
+                          rtol=GMRES_RTOL, max_steps=GMRES_STEPS)
+        return x if rel <= GMRES_RTOL else None
 
     def _one_by_one(self, w: np.ndarray, message: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         op = self.operator

@@ -296,6 +296,12 @@ class HarmonicOperator(_OnPattern):
         return (np.einsum("sp,pbij->sbij", pw, self.W), np.einsum("sp,pbij->sbij", pw[:, : len(self.V)], self.V),
                 pw[:, : len(self.rhs)] @ self.rhs)
 
+    def mean_blocks_many(self, omegas) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The mean system's blocks (k = l = 0): W, V (S, n, n) at speeds (S,) and Mh (n, n)."""
+        c, pw = self.pattern.centre_block, self._powers(omegas, len(self.W))
+        return (np.einsum("sp,pij->sij", pw, self.W[:, c]), np.einsum("sp,pij->sij", pw[:, : len(self.V)], self.V[:, c]),
+                self.Mh[c])
+
     def balance_scales_many(self, omegas) -> tuple[np.ndarray, np.ndarray]:
         """Per row of the HB matrix (complex basis, row (k + m) n + i) the largest modulus
         of the omega-power terms it sums, ``max_p |w|^p max_j |W_p[row, j]|`` (S, N), and

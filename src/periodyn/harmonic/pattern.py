@@ -47,6 +47,11 @@ class BlockPattern:
         return (2 * self.m + 1) * self.n
 
     @property
+    def centre_block(self) -> int:
+        """Index of the block (k, l) = (0, 0), the mean system's."""
+        return int(np.flatnonzero((self.k_index == 0) & (self.l_index == 0))[0])
+
+    @property
     def narrow(self) -> bool:
         """The band holds less than about half of the matrix (4u < size)."""
         return 4 * self.half_bandwidth < self.size
