@@ -23,7 +23,7 @@ from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_met
                    dense_exponents_batch, hill_costs_many, magnus_reason, operator_exponents)
 from .kernels.floquet import magnus_monodromies
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
-from .spectra import synthesize
+from .spectra import StackedSpectra
 from .system import OmegaSplitModel, RheoLinear
 from .magnus import (MagnusLadder, gauss_angles, half_period_signs, magnus_steps, magnus_terms,
                      monodromy_exponent_array)
@@ -167,7 +167,7 @@ class SpeedSolver:
         self.magnus = None
         if stability and self.method == "magnus":
             theta = gauss_angles(magnus_steps(model.samples))
-            self.magnus = magnus_terms(*(synthesize(X, theta) for X in model._power_spectra[:3]))[0]
+            self.magnus = magnus_terms(*StackedSpectra(*model._power_spectra[:3]).at(theta))[0]
         self.dense_hill = stability and self.method in ("dense", "auto")  # stacked dense Hill possible
         self.ladder = MagnusLadder(*model._power_spectra[:3]) if stability and self.method == "auto" else None
 

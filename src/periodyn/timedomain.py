@@ -23,7 +23,7 @@ from .magnus import gauss_angles, magnus_steps, magnus_transition, monodromy_exp
 from .nonlinear.integrate import solve
 from .nonlinear.linear import ode
 from .nonlinear.variational import flow
-from .spectra import synthesize
+from .spectra import StackedSpectra, real_basis
 from .system import RheoLinear
 
 __all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "exponents_from_monodromy", "integrate"]
@@ -32,10 +32,8 @@ RTOL, ATOL = 1e-11, 1e-13
 
 
 def _coefficients(system: RheoLinear, forced: bool = True):
-    """Callable t -> (M, C, K, f) at time t (s) ((M, C, K) when not ``forced``). From the
-    spectra X_l (l = -L..L) all matrices come from one real product: the real part of
-    sum_l X_l e^(i l omega t) is sum over l >= 0 of cos(l omega t) Re(X_l + X_-l) +
-    sin(l omega t) Im(X_-l - X_l), exactly."""
+    """Callable t -> (M, C, K, f) at time t (s) ((M, C, K) when not ``forced``); from the
+    spectra, all matrices come from one real product (:class:`periodyn.spectra.StackedSpectra`)."""
     n = system.n
     if system.functions is not None:
         Mf, Cf, Kf, ff = system.functions
@@ -47,25 +45,11 @@ def _coefficients(system: RheoLinear, forced: bool = True):
 
         return at
     S = system.spectra
-    X = [S.mass, S.damping, S.stiffness] + [S.force] * forced
-    L = (X[0].shape[0] - 1) // 2
-    flat = np.concatenate([x.reshape(2 * L + 1, -1) for x in X], axis=1)
-    pos, neg = flat[L:], flat[L::-1]  # X_l and X_-l for l = 0..L
-    rows = np.empty((2 * L + 2, flat.shape[1]))
-    rows[0::2] = (pos + neg).real
-    rows[1::2] = (neg - pos).imag
-    rows[0] *= 0.5  # l = 0 counted once
-    rows = rows[np.r_[0, 2:2 * L + 2]]  # (the l = 0 sine row is zero)
-    l = np.arange(1, L + 1)
-    sizes = np.cumsum([0] + [x[0].size for x in X])
-    shapes = [x.shape[1:] for x in X]
+    stacked = StackedSpectra(S.mass, S.damping, S.stiffness, *[S.force] * forced)
 
     def at(t):
-        theta = system.omega * t * l
-        w = np.empty(2 * L + 1)
-        w[0], w[1::2], w[2::2] = 1.0, np.cos(theta), np.sin(theta)
-        v = w @ rows
-        return tuple(v[a:b].reshape(sh) for a, b, sh in zip(sizes[:-1], sizes[1:], shapes))
+        values = real_basis(stacked.harmonics, system.omega * t) @ stacked.rows
+        return tuple(v[0] for v in stacked.split(values))
 
     return at
 
@@ -130,7 +114,7 @@ def monodromy_exponents(system: RheoLinear, method: str = "monodromy", steps: in
         steps = steps or magnus_steps(system.samples)
         theta = gauss_angles(steps)
         S = system.spectra
-        Mg, Cg, Kg = (synthesize(X, theta) for X in (S.mass, S.damping, S.stiffness))
+        Mg, Cg, Kg = StackedSpectra(S.mass, S.damping, S.stiffness).at(theta)
         Phi = magnus_transition(Mg, Cg, Kg, system.period / steps)
     else:
         Phi = monodromy_matrix(system)

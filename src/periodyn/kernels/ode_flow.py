@@ -15,7 +15,6 @@ derivative in time, the phase-time derivative is x / omega; column j advances by
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 

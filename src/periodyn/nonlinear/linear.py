@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spectra import synthesize
+from ..spectra import StackedSpectra
 
 __all__ = ["ode", "rheo_linear_dae"]
 
@@ -39,10 +39,10 @@ def rheo_linear_dae(system, *, name: str = "rheo_linear"):
     its own omega; the omega passed to the solvers must be ``system.omega``. The result
     keeps the system as ``rheo_linear``."""
     S = system.inverse_mass_spectra
+    stacked = StackedSpectra(S.damping, S.stiffness, S.force)
 
     def coefficients(t):
-        theta = system.omega * np.asarray(t, float)
-        return synthesize(S.damping, theta), synthesize(S.stiffness, theta), synthesize(S.force, theta)
+        return stacked.at(system.omega * np.asarray(t, float))
 
     def force(q, qd, t, omega, P):
         Pt, Qt, rt = coefficients(t)
