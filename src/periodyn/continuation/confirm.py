@@ -1,4 +1,10 @@
-"""Special points checked by direct integration of the DAE (or ODE).
+"""Special points checked against the truncation, then by direct integration of the DAE (or ODE).
+
+On a harmonic-balance branch every point first goes through
+``periodyn.continuation.truncation.check_truncation``: the orbit defect is recorded, and a
+point whose orbit is unresolved and whose crossing does not persist at more harmonics is
+rejected as spurious without integration (the expensive step below is spent only on the
+rest).
 
 A special point found on a harmonic-balance branch is a property of the truncated
 equations; a truncation too short for the orbit can put a multiplier crossing where the
@@ -30,6 +36,7 @@ from ..errors import ConvergenceError, InputError
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .events import KINDS, nearest_of_kind as _nearest, of_kind
+from .truncation import check_truncation
 
 __all__ = ["confirm_special_points", "integrated_multipliers"]
 
@@ -59,17 +66,20 @@ def integrated_multipliers(system, solution, *, rtol: float = 1e-9, newton: int 
 
 
 def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rtol: float = 1e-9, newton: int = 0,
-                           types=tuple(KINDS), progress=None) -> Branch:
-    """The branch with every special point checked by direct integration (module
-    docstring): ``confirmed`` True/False and ``check`` (the reason) set on each.
+                           types=tuple(KINDS), defect_tol: float = 1e-2, harmonics: int | None = None,
+                           window: float = 0.01, progress=None) -> Branch:
+    """The branch with every special point checked (module docstring): ``defect`` (IHB
+    branches), ``confirmed`` True/False and ``check`` (the reason) set on each.
 
     system: the DAE (default: the one the branch was computed with; give it for a branch
     loaded from a file); tol: largest distance | |mu| - 1 | of the integrated critical
     multiplier at the point that still confirms it when the bracket shows no crossing;
     rtol: integration tolerance; newton: shooting Newton updates of each orbit before its
     monodromy (0: the harmonic-balance orbit as it is); types: the special-point types to
-    check (the others stay unchecked); progress: None or a callable (points done, points
-    to check)."""
+    check (the others stay unchecked); defect_tol, harmonics, window: the truncation check
+    of an IHB branch (``check_truncation``: largest defect of a resolved orbit, H' of the
+    re-solve, relative omega window); progress: None or a callable (points done, points to
+    check)."""
     system = branch.options.get("system") if system is None else system
     if system is None:
         raise InputError("confirming special points needs the DAE: pass system= for a branch loaded from a file")
@@ -79,6 +89,9 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
         raise InputError(f"tol must lie in (0, 1) and rtol in (0, 1e-3), got tol={tol}, rtol={rtol}")
     if system.n != branch.solutions[0].harmonics.shape[1]:
         raise InputError(f"the system has {system.n} coordinates, the branch {branch.solutions[0].harmonics.shape[1]}")
+    if branch.solutions[0].method == "ihb":
+        branch = check_truncation(branch, system, harmonics=harmonics, defect_tol=defect_tol, window=window,
+                                  types=types)
     cache: dict[int, tuple] = {}
 
     def at(k):
@@ -86,16 +99,21 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
             cache[k] = integrated_multipliers(system, branch.solutions[k], rtol=rtol, newton=newton)
         return cache[k]
 
-    out, done, todo = [], 0, sum(sp.type in types for sp in branch.special_points)
+    out, done, todo = [], 0, sum(sp.type in types and not _spurious(sp) for sp in branch.special_points)
     for sp in branch.special_points:
-        if sp.type not in types:
+        if sp.type not in types or _spurious(sp):  # not asked for, or rejected by its truncation
             out.append(sp)
             continue
-        out.append(_check(sp, at(sp.index), at(sp.index + 1), branch, system, tol, rtol, newton))
+        checked = _check(sp, at(sp.index), at(sp.index + 1), branch, system, tol, rtol, newton)
+        out.append(replace(checked, check=f"{checked.check}; {sp.check}" if sp.check else checked.check))
         done += 1
         if progress is not None:
             progress(done, todo)
     return replace(branch, special_points=tuple(out))
+
+
+def _spurious(sp: SpecialPoint) -> bool:
+    return sp.confirmed is False and sp.check.startswith("spurious")
 
 
 def _check(sp: SpecialPoint, a, b, branch, system, tol, rtol, newton) -> SpecialPoint:

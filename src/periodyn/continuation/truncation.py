@@ -1,0 +1,113 @@
+"""Special points checked against the harmonic truncation, before any integration.
+
+A harmonic-balance orbit solves the Galerkin projection of the DAE onto harmonics <= H; what
+the truncation throws away shows in the residual of the DAE itself at times between the
+IHB's samples. :func:`orbit_defect` evaluates ``r1 = M q'' + Phi_q^T lambda - f`` of the
+truncated series at ``oversample`` times the IHB's sample count and returns its max-norm
+relative to the force scale max |f| along the orbit (dimensionless: 0 for an exact orbit,
+O(1) when the neglected harmonics carry forces as large as the applied ones).
+
+:func:`check_truncation` attaches the defect to every special point. Where it exceeds
+``defect_tol`` the point is a property of an unresolved truncation until shown otherwise:
+the branch is continued afresh with H' > H harmonics (default H + 4) from the point's orbit,
+zero-padded, to both sides over ``omega (1 -+ window)``; the point **persists** when the
+H' branch has a special point of the same type in that window, and is **spurious**
+(``confirmed`` False, with the reason) when it has none, or when no H' orbit is found near
+it. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
+itself is for ``confirm_special_points`` to confirm by direct integration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..errors import ConvergenceError, InputError
+from ..nonlinear.ihb import IHBProblem, default_samples
+from .branch import Branch, SpecialPoint
+from .events import KINDS
+
+__all__ = ["orbit_defect", "check_truncation"]
+
+
+def orbit_defect(system, solution, oversample: int = 4) -> float:
+    """max_t |M q'' + Phi_q^T lambda - f|_inf / max_t |f|_inf of a harmonic-balance
+    PeriodicSolution, at ``oversample`` x the IHB's default samples of its H."""
+    if not isinstance(oversample, (int, np.integer)) or oversample < 1:
+        raise InputError(f"oversample must be a positive integer, got {oversample!r}")
+    H = (solution.harmonics.shape[0] - 1) // 2
+    prob = IHBProblem(system, H, oversample * default_samples(H), solution.subharmonic)
+    P = dict(system.parameters, **solution.parameters)
+    _, r1, _, f = prob.sampled_residual(prob.from_solution(solution), float(solution.omega), P)
+    return float(np.max(np.abs(r1)) / max(np.max(np.abs(f)), np.finfo(float).tiny))
+
+
+def check_truncation(branch: Branch, system=None, *, harmonics: int | None = None, defect_tol: float = 1e-2,
+                     window: float = 0.01, types=tuple(KINDS), progress=None) -> Branch:
+    """The branch with the orbit defect on every special point of ``types`` and the
+    spurious ones rejected (module docstring).
+
+    system: the DAE (default the branch's own; give it for a branch loaded from a file);
+    harmonics: H' of the re-solve (default H + 4); defect_tol: largest defect of a resolved
+    orbit; window: relative half-width in omega in which the point must persist at H';
+    progress: None or a callable (points done, points to check)."""
+    system = branch.options.get("system") if system is None else system
+    if system is None:
+        raise InputError("checking special points needs the DAE: pass system= for a branch loaded from a file")
+    if branch.solutions[0].method != "ihb":
+        raise InputError(f"the truncation check is for harmonic-balance (ihb) branches, got {branch.solutions[0].method}")
+    H = (branch.solutions[0].harmonics.shape[0] - 1) // 2
+    H2 = H + 4 if harmonics is None else int(harmonics)
+    if H2 <= H:
+        raise InputError(f"harmonics (H') must exceed the branch's H = {H}, got {harmonics}")
+    if not 0 < defect_tol or not 0 < window < 0.5:
+        raise InputError(f"defect_tol must be > 0 and window in (0, 0.5), got {defect_tol}, {window}")
+    out, todo = [], [sp for sp in branch.special_points if sp.type in types]
+    for sp in branch.special_points:
+        if sp.type in types:
+            sp = _check(sp, branch, system, H2, defect_tol, window)
+            if progress is not None:
+                progress(sum(p.type in types for p in out) + 1, len(todo))
+        out.append(sp)
+    return replace(branch, special_points=tuple(out))
+
+
+def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float, window: float) -> SpecialPoint:
+    orbits = [sp.solution] if sp.solution is not None else list(branch.solutions[sp.index:sp.index + 2])
+    defect = max(orbit_defect(system, s) for s in orbits)
+    H = (orbits[0].harmonics.shape[0] - 1) // 2
+    if defect <= defect_tol:
+        return replace(sp, defect=defect, confirmed=None, check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
+    lo, hi = sp.omega * (1 - window), sp.omega * (1 + window)
+    found, ends = [], []
+    for stop in (lo, hi):
+        try:
+            br = _local_branch(system, sp, orbits[0], stop, H2, branch)
+        except ConvergenceError as exc:
+            return replace(sp, defect=defect, confirmed=False,
+                           check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and no orbit at "
+                                 f"H' = {H2} continues from it (residual {exc.residual:.2g} after {exc.iterations} "
+                                 "Newton updates): the truncation is not converged there; raise the harmonics")
+        found += [p for p in br.points(sp.type) if lo <= p.omega <= hi]
+        ends.append(f"{br.omega.min():.6g}..{br.omega.max():.6g}" +
+                    ("" if br.status == "parameter range covered" else f" ({br.status})"))
+    span = f"H' = {H2} branch over omega {' and '.join(ends)}"
+    if found:
+        near = min(found, key=lambda p: abs(p.omega - sp.omega))
+        return replace(sp, defect=defect, confirmed=None, check=f"persists: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, "
+                                                f"but the {span} has its {sp.type} at {near.omega:.6g} rad/s "
+                                                f"(defect there {orbit_defect(system, near.solution):.2g})"
+                       if near.solution is not None else f"persists: the {span} has its {sp.type} at {near.omega:.6g}")
+    return replace(sp, defect=defect, confirmed=False,
+                   check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and the {span} has no "
+                         f"crossing of this kind within {100 * window:g} % of {sp.omega:.6g} rad/s: a property of the "
+                         "truncated equations; raise the harmonics")
+
+
+def _local_branch(system, sp: SpecialPoint, orbit, stop: float, H2: int, branch: Branch) -> Branch:
+    from .driver import continuation  # the driver imports the checks
+
+    o = branch.options
+    return continuation(system, (sp.omega, stop), harmonics=H2, initial=orbit, stability=o.get("stability", "magnus"),
+                        ds_max=min(o.get("ds_max", 0.2), 0.05), max_points=40)
