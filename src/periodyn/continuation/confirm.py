@@ -1,6 +1,6 @@
 """Special points checked against the truncation, then by direct integration of the DAE (or ODE).
 
-On a harmonic-balance branch every point first goes through
+On a harmonic-balance frequency response every point first goes through
 ``periodyn.continuation.truncation.check_truncation``: the orbit defect is recorded, and a
 point whose orbit is unresolved and whose crossing does not persist at more harmonics is
 rejected as spurious without integration (the expensive step below is spent only on the
@@ -66,8 +66,8 @@ def integrated_multipliers(system, solution, *, rtol: float = 1e-9, newton: int 
 
 
 def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rtol: float = 1e-9, newton: int = 0,
-                           types=tuple(KINDS), defect_tol: float = 1e-2, harmonics: int | None = None,
-                           window: float = 0.01, progress=None) -> Branch:
+                           types=tuple(KINDS), defect_tol: float = 1e-3, harmonics: int | None = None,
+                           window: float = 0.01, integrate: bool = True, progress=None) -> Branch:
     """The branch with every special point checked (module docstring): ``defect`` (IHB
     branches), ``confirmed`` True/False and ``check`` (the reason) set on each.
 
@@ -78,7 +78,8 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
     monodromy (0: the harmonic-balance orbit as it is); types: the special-point types to
     check (the others stay unchecked); defect_tol, harmonics, window: the truncation check
     of an IHB branch (``check_truncation``: largest defect of a resolved orbit, H' of the
-    re-solve, relative omega window); progress: None or a callable (points done, points to
+    re-solve, relative omega window); integrate: False stops after the truncation check
+    (its verdicts only); progress: None or a callable (points done, points to
     check)."""
     system = branch.options.get("system") if system is None else system
     if system is None:
@@ -89,9 +90,11 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
         raise InputError(f"tol must lie in (0, 1) and rtol in (0, 1e-3), got tol={tol}, rtol={rtol}")
     if system.n != branch.solutions[0].harmonics.shape[1]:
         raise InputError(f"the system has {system.n} coordinates, the branch {branch.solutions[0].harmonics.shape[1]}")
-    if branch.solutions[0].method == "ihb":
+    if branch.solutions[0].method == "ihb" and branch.parameter_name is None:
         branch = check_truncation(branch, system, harmonics=harmonics, defect_tol=defect_tol, window=window,
                                   types=types)
+    if not integrate:
+        return branch
     cache: dict[int, tuple] = {}
 
     def at(k):

@@ -43,7 +43,7 @@ def orbit_defect(system, solution, oversample: int = 4) -> float:
     return float(np.max(np.abs(r1)) / max(np.max(np.abs(f)), np.finfo(float).tiny))
 
 
-def check_truncation(branch: Branch, system=None, *, harmonics: int | None = None, defect_tol: float = 1e-2,
+def check_truncation(branch: Branch, system=None, *, harmonics: int | None = None, defect_tol: float = 1e-3,
                      window: float = 0.01, types=tuple(KINDS), progress=None) -> Branch:
     """The branch with the orbit defect on every special point of ``types`` and the
     spurious ones rejected (module docstring).
@@ -55,20 +55,21 @@ def check_truncation(branch: Branch, system=None, *, harmonics: int | None = Non
     system = branch.options.get("system") if system is None else system
     if system is None:
         raise InputError("checking special points needs the DAE: pass system= for a branch loaded from a file")
-    if branch.solutions[0].method != "ihb":
-        raise InputError(f"the truncation check is for harmonic-balance (ihb) branches, got {branch.solutions[0].method}")
+    if branch.solutions[0].method != "ihb" or branch.parameter_name is not None:
+        raise InputError("the truncation check is for harmonic-balance (ihb) frequency responses, not "
+                         f"{branch.solutions[0].method} branches over {branch.parameter_name or 'omega'}")
     H = (branch.solutions[0].harmonics.shape[0] - 1) // 2
     H2 = H + 4 if harmonics is None else int(harmonics)
     if H2 <= H:
         raise InputError(f"harmonics (H') must exceed the branch's H = {H}, got {harmonics}")
     if not 0 < defect_tol or not 0 < window < 0.5:
         raise InputError(f"defect_tol must be > 0 and window in (0, 0.5), got {defect_tol}, {window}")
-    out, todo = [], [sp for sp in branch.special_points if sp.type in types]
+    out, done, todo = [], 0, sum(sp.type in types for sp in branch.special_points)
     for sp in branch.special_points:
         if sp.type in types:
-            sp = _check(sp, branch, system, H2, defect_tol, window)
+            sp, done = _check(sp, branch, system, H2, defect_tol, window), done + 1
             if progress is not None:
-                progress(sum(p.type in types for p in out) + 1, len(todo))
+                progress(done, todo)
         out.append(sp)
     return replace(branch, special_points=tuple(out))
 
@@ -78,7 +79,8 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
     defect = max(orbit_defect(system, s) for s in orbits)
     H = (orbits[0].harmonics.shape[0] - 1) // 2
     if defect <= defect_tol:
-        return replace(sp, defect=defect, confirmed=None, check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
+        return replace(sp, defect=defect, confirmed=None,
+                       check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
     lo, hi = sp.omega * (1 - window), sp.omega * (1 + window)
     found, ends = [], []
     for stop in (lo, hi):
@@ -95,10 +97,10 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
     span = f"H' = {H2} branch over omega {' and '.join(ends)}"
     if found:
         near = min(found, key=lambda p: abs(p.omega - sp.omega))
-        return replace(sp, defect=defect, confirmed=None, check=f"persists: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, "
-                                                f"but the {span} has its {sp.type} at {near.omega:.6g} rad/s "
-                                                f"(defect there {orbit_defect(system, near.solution):.2g})"
-                       if near.solution is not None else f"persists: the {span} has its {sp.type} at {near.omega:.6g}")
+        there = "" if near.solution is None else f" (defect there {orbit_defect(system, near.solution):.2g})"
+        return replace(sp, defect=defect, confirmed=None,
+                       check=f"persists: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, but the {span} has "
+                             f"its {sp.type} at {near.omega:.6g} rad/s{there}")
     return replace(sp, defect=defect, confirmed=False,
                    check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and the {span} has no "
                          f"crossing of this kind within {100 * window:g} % of {sp.omega:.6g} rad/s: a property of the "
