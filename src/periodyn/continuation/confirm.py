@@ -20,7 +20,7 @@ Verdict: **confirmed** when the integrated count changes between the bracketing 
 (the crossing is bracketed by the DAE itself) or, failing that, when the integrated
 multiplier of that kind nearest the unit circle at the point lies within ``tol`` of it
 (the crossing lies just outside the bracket); **rejected** otherwise, with the integrated
-multipliers in the reason. Each point also reports the orbit defect: the shooting residual
+multipliers in the reason. Each point also reports the shooting residual
 (max-norm of the independent states after one period) of the orbit it was integrated from,
 which measures how far the harmonic-balance orbit is from a periodic solution of the DAE.
 With ``newton`` > 0 the orbits are first corrected by that many shooting Newton updates.
@@ -46,9 +46,9 @@ def _outside(mu: np.ndarray, kind: str) -> int:
 
 
 def integrated_multipliers(system, solution, *, rtol: float = 1e-9, newton: int = 0) -> tuple[np.ndarray, float]:
-    """(Floquet multipliers (2(n - m),), orbit defect) of the orbit of a PeriodicSolution
+    """(Floquet multipliers (2(n - m),), shooting residual) of the orbit of a PeriodicSolution
     by one period of direct integration with the variational equations (monodromy
-    matrix); the defect is the shooting residual max-norm of its start state (m, rad, m/s,
+    matrix); the residual is the shooting residual max-norm of its start state (m, rad, m/s,
     rad/s), after ``newton`` shooting Newton updates when > 0 (a failed correction keeps
     the orbit as given)."""
     om, P = float(solution.omega), dict(system.parameters, **solution.parameters)
@@ -127,7 +127,7 @@ def _check(sp: SpecialPoint, a, b, branch, system, tol, rtol, newton) -> Special
     where = f"{'omega' if branch.parameter_name is None else branch.parameter_name}"
     bracket = (f"{kind} multipliers outside the unit circle by direct integration: {na} at {where}={pa:.6g} "
                f"(nearest {_fmt(_nearest(mu_a, kind))}), {nb} at {pb:.6g} (nearest {_fmt(_nearest(mu_b, kind))})")
-    defects = f"orbit defects {def_a:.2g}, {def_b:.2g}"
+    defects = f"shooting residuals {def_a:.2g}, {def_b:.2g}"
     if na != nb:
         return replace(sp, confirmed=True, check=f"confirmed: {bracket}; {defects}")
     if sp.solution is None:
@@ -136,7 +136,7 @@ def _check(sp: SpecialPoint, a, b, branch, system, tol, rtol, newton) -> Special
     mu_p, def_p = integrated_multipliers(system, sp.solution, rtol=rtol, newton=newton)
     c = _nearest(mu_p, kind)
     dist = abs(abs(c) - 1.0) if np.isfinite(c) else np.inf
-    at_point = (f"at the point the nearest is {_fmt(c)} (| |mu| - 1 | = {dist:.2g}, tol {tol:g}; orbit defect "
+    at_point = (f"at the point the nearest is {_fmt(c)} (| |mu| - 1 | = {dist:.2g}, tol {tol:g}; shooting residual "
                 f"{def_p:.2g})")
     if dist <= tol:
         return replace(sp, confirmed=True, check=f"confirmed: {at_point}; no crossing inside the bracket ({bracket})")

@@ -10,10 +10,10 @@ O(1) when the neglected harmonics carry forces as large as the applied ones).
 :func:`check_truncation` attaches the defect to every special point. Where it exceeds
 ``defect_tol`` the point is a property of an unresolved truncation until shown otherwise:
 the branch is continued afresh with H' > H harmonics (default H + 4) from the point's orbit,
-zero-padded, to both sides over ``omega (1 -+ window)``; the point **persists** when the
-H' branch has a special point of the same type in that window, and is **spurious**
-(``confirmed`` False, with the reason) when it has none, or when no H' orbit is found near
-it. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
+zero-padded (from a bracketing orbit when Newton fails there), to both sides over
+``omega (1 -+ window)``; the point **persists** when the H' branch has a special point of
+the same type in that window, and is **spurious** (``confirmed`` False, with the reason)
+when it has none, or when Newton at H' converges from none of these orbits. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
 itself is for ``confirm_special_points`` to confirm by direct integration.
 """
 
@@ -82,15 +82,16 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
         return replace(sp, defect=defect, confirmed=None,
                        check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
     lo, hi = sp.omega * (1 - window), sp.omega * (1 + window)
+    try:
+        branches = _local_branches(system, sp, branch, (lo, hi), H2)
+    except ConvergenceError as exc:
+        return replace(sp, defect=defect, confirmed=False,
+                       check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and Newton at H' = "
+                             f"{H2} does not converge from its orbit or the bracketing ones, zero-padded (last: "
+                             f"residual {exc.residual:.2g} after {exc.iterations} updates): the orbit is not a "
+                             "truncation of an H' orbit; raise the harmonics")
     found, ends = [], []
-    for stop in (lo, hi):
-        try:
-            br = _local_branch(system, sp, orbits[0], stop, H2, branch)
-        except ConvergenceError as exc:
-            return replace(sp, defect=defect, confirmed=False,
-                           check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and no orbit at "
-                                 f"H' = {H2} continues from it (residual {exc.residual:.2g} after {exc.iterations} "
-                                 "Newton updates): the truncation is not converged there; raise the harmonics")
+    for br in branches:
         found += [p for p in br.points(sp.type) if lo <= p.omega <= hi]
         ends.append(f"{br.omega.min():.6g}..{br.omega.max():.6g}" +
                     ("" if br.status == "parameter range covered" else f" ({br.status})"))
@@ -107,9 +108,21 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
                          "truncated equations; raise the harmonics")
 
 
-def _local_branch(system, sp: SpecialPoint, orbit, stop: float, H2: int, branch: Branch) -> Branch:
+def _local_branches(system, sp: SpecialPoint, branch: Branch, window: tuple, H2: int) -> list[Branch]:
+    """The H2 branch from the point's orbit (else from a bracketing one) to both ends of the
+    window; the residual tolerance is 10x the branch's (crossings are located, not orbits
+    to the last digit). Raises the last ConvergenceError when no start converges."""
     from .driver import continuation  # the driver imports the checks
 
     o = branch.options
-    return continuation(system, (sp.omega, stop), harmonics=H2, initial=orbit, stability=o.get("stability", "magnus"),
-                        ds_max=min(o.get("ds_max", 0.2), 0.05), max_points=40)
+    starts = [(sp.solution, sp.omega)] if sp.solution is not None else []
+    starts += [(branch.solutions[k], branch.omega[k]) for k in (sp.index, sp.index + 1)]
+    error = None
+    for orbit, omega in starts:
+        try:
+            return [continuation(system, (omega, stop), harmonics=H2, initial=orbit, tol=10 * o.get("tol", 1e-8),
+                                 stability=o.get("stability", "magnus"), ds_max=min(o.get("ds_max", 0.2), 0.05),
+                                 max_points=40) for stop in window]
+        except ConvergenceError as exc:
+            error = exc
+    raise error
