@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from periodyn.config import load_sweep_file, project_root
-from periodyn.continuation import continuation, load_branch
+from periodyn.continuation import confirm_special_points, continuation, load_branch
 from periodyn.continuation.truncation import check_truncation, orbit_defect
 from periodyn.errors import InputError
 from periodyn.examples import rod_pendulum
@@ -88,6 +88,7 @@ def test_continuation_and_study_files_run_the_truncation_check_alone(system, tmp
     br = continuation(system, (4.5, 1.95), harmonics=10, confirm="truncation")
     (bp,) = br.points("branch-point")
     assert bp.confirmed is False and bp.check.startswith("spurious") and "direct integration" not in bp.check
+    assert confirm_special_points(br).points("branch-point")[0].check == bp.check  # kept, not integrated
     with pytest.raises(InputError, match="confirm"):
         continuation(system, (4.5, 1.95), harmonics=10, confirm="yes")
     text = (project_root() / "sweeps" / "dae_rod_pendulum.toml").read_text()

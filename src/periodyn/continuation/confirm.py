@@ -4,7 +4,8 @@ On a harmonic-balance frequency response every point first goes through
 ``periodyn.continuation.truncation.check_truncation``: the orbit defect is recorded, and a
 point whose orbit is unresolved and whose crossing does not persist at more harmonics is
 rejected as spurious without integration (the expensive step below is spent only on the
-rest).
+rest). Points that already carry a defect (checked before, e.g. by a study with ``confirm =
+"truncation"``) keep that verdict.
 
 A special point found on a harmonic-balance branch is a property of the truncated
 equations; a truncation too short for the orbit can put a multiplier crossing where the
@@ -90,7 +91,8 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
         raise InputError(f"tol must lie in (0, 1) and rtol in (0, 1e-3), got tol={tol}, rtol={rtol}")
     if system.n != branch.solutions[0].harmonics.shape[1]:
         raise InputError(f"the system has {system.n} coordinates, the branch {branch.solutions[0].harmonics.shape[1]}")
-    if branch.solutions[0].method == "ihb" and branch.parameter_name is None:
+    unchecked = any(np.isnan(sp.defect) for sp in branch.special_points if sp.type in types)
+    if branch.solutions[0].method == "ihb" and branch.parameter_name is None and unchecked:
         branch = check_truncation(branch, system, harmonics=harmonics, defect_tol=defect_tol, window=window,
                                   types=types)
     if not integrate:
