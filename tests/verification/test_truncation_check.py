@@ -67,10 +67,14 @@ def test_enough_harmonics_leave_the_branch_point_to_the_integration(system, bran
 
 
 def test_an_unresolved_point_that_persists_at_more_harmonics_is_kept(system, branches):
-    """defect_tol below the H = 20 defect forces the re-solve at H' = 24: the crossing is
-    found again within 1 % and the point stays for the integration."""
-    (bp,) = check_truncation(branches[20], defect_tol=1e-7).points("branch-point")
+    """defect_tol below the H = 20 defect (3.7e-5) forces the re-solve at H' = 24: the
+    crossing is found again within 1 %, resolved there, and the point stays for the
+    integration; with defect_tol below the H' = 24 defect too (2.1e-6) it is rejected: neither
+    truncation resolves the orbit to that tolerance."""
+    (bp,) = check_truncation(branches[20], defect_tol=1e-5).points("branch-point")
     assert bp.confirmed is None and bp.check.startswith("persists") and "H' = 24" in bp.check
+    (bp,) = check_truncation(branches[20], defect_tol=1e-9).points("branch-point")
+    assert bp.confirmed is False and "unresolved too" in bp.check
 
 
 def test_bad_options_are_refused(branches):

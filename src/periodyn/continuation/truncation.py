@@ -12,8 +12,10 @@ O(1) when the neglected harmonics carry forces as large as the applied ones).
 the branch is continued afresh with H' > H harmonics (default H + 4) from the point's orbit,
 zero-padded (from a bracketing orbit when Newton fails there), to both sides over
 ``omega (1 -+ window)``; the point **persists** when the H' branch has a special point of
-the same type in that window, and is **spurious** (``confirmed`` False, with the reason)
-when it has none, or when Newton at H' converges from none of these orbits. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
+the same type in that window whose own orbit is resolved (defect <= ``defect_tol``), and is
+**spurious** (``confirmed`` False, with the reason) when it has none, when the ones it has
+are unresolved too (neither truncation resolves the orbit), or when Newton at H' converges
+from none of these orbits. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
 itself is for ``confirm_special_points`` to confirm by direct integration.
 """
 
@@ -97,15 +99,25 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
                     ("" if br.status == "parameter range covered" else f" ({br.status})"))
     span = f"H' = {H2} branch over omega {' and '.join(ends)}"
     if found:
-        near = min(found, key=lambda p: abs(p.omega - sp.omega))
-        there = "" if near.solution is None else f" (defect there {orbit_defect(system, near.solution):.2g})"
+        near = min(found, key=lambda p: (_defect(system, p) > defect_tol, abs(p.omega - sp.omega)))
+        there = f"its {sp.type} at {near.omega:.6g} rad/s (defect there {_defect(system, near):.2g})"
+        if _defect(system, near) > defect_tol:
+            return replace(sp, defect=defect, confirmed=False,
+                           check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and the {span} "
+                                 f"has {there}, unresolved too: neither truncation resolves the orbit there; raise the "
+                                 "harmonics")
         return replace(sp, defect=defect, confirmed=None,
                        check=f"persists: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, but the {span} has "
-                             f"its {sp.type} at {near.omega:.6g} rad/s{there}")
+                             f"{there}")
     return replace(sp, defect=defect, confirmed=False,
                    check=f"spurious: orbit defect {defect:.2g} > {defect_tol:g} at H = {H}, and the {span} has no "
                          f"crossing of this kind within {100 * window:g} % of {sp.omega:.6g} rad/s: a property of the "
                          "truncated equations; raise the harmonics")
+
+
+def _defect(system, sp: SpecialPoint) -> float:
+    """Orbit defect of a point found on an H' branch (0 when its refinement failed: not held against it)."""
+    return 0.0 if sp.solution is None else orbit_defect(system, sp.solution)
 
 
 def _local_branches(system, sp: SpecialPoint, branch: Branch, window: tuple, H2: int) -> list[Branch]:
