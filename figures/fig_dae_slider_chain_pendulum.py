@@ -3,8 +3,8 @@ amplitude-frequency curves of the slider and the chain tip, and q, lambda over o
 vs integration of the DAE started on the IHB orbit.
 
 Special points: only those the study's check did not reject are drawn (the study runs
-``confirm = "truncation"``: a point whose H = 10 orbit is unresolved and whose crossing does
-not persist at H = 14 is spurious); the title says how many were left out.
+``confirm = "truncation"``: a point whose H = 10 orbit is unresolved and whose crossing is not
+found on a resolved H = 14 orbit within 1 % is spurious); the title says how many were left out.
 
     python figures/fig_dae_slider_chain_pendulum.py [OUT_DIR]
 """
@@ -46,7 +46,8 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         ax.grid(alpha=0.3)
     fig.suptitle(f"slider-chain pendulum, {s.n} coordinates, {s.m} multipliers, p = {s.parameters['p']} N, "
                  f"H = {H}, max residual {br.residual.max():.1e}\nspecial points drawn: {len(kept)} not rejected; "
-                 f"{len(br.special_points) - len(kept)} spurious (unresolved orbit, absent at H = {H + 4}) left out",
+                 f"{len(br.special_points) - len(kept)} spurious left out (orbit unresolved, no resolved crossing "
+                 f"at H = {H + 4})",
                  fontsize=9)
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_slider_chain_pendulum_response.png")
