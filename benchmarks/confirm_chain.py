@@ -4,12 +4,13 @@
         [--types neimark-sacker ...] [--harmonics 14] [--integrate] [--rtol 1e-8]
 
 Reads the study file written by ``periodyn sweep sweeps/dae_slider_chain_pendulum.toml``
-(computes it when absent; the study already runs step 1, which is timed again here). Step 1 (``check_truncation``): the orbit defect of every point
-and, where it is above 1e-3, the branch continued afresh at H' harmonics around it; points
-whose crossing does not persist are spurious. Step 2 (``--integrate``,
-``confirm_special_points``): the survivors by one period of the DAE with its variational
-equations per bracketing orbit (~100-200 s each for 82 multipliers). Prints one line per
-point (omega, defect, verdict, reason) and the time of each step.
+(computes it when absent; the study already runs step 1, timed again here). Step 1
+(``check_truncation``): the orbit defect of every point and, where it is above 1e-3, the
+branch continued afresh at H' harmonics around it; points whose crossing is not found on a
+resolved H' orbit are spurious. Step 2 (``--integrate``, ``confirm_special_points``): the
+survivors by one period of the DAE with its variational equations per bracketing orbit
+(40-120 s each for 82 multipliers under load). Prints one line per point (omega, defect,
+verdict, reason) and the time of each step.
 """
 
 from __future__ import annotations
