@@ -3,15 +3,16 @@
 
 The study runs ``confirm = "truncation"``: every special point carries its orbit defect (DAE
 residual between the IHB samples relative to the force scale); where it exceeds 1e-3 the
-branch is continued afresh at H = 14 around the point. Of the 28 points, 15 are rejected:
-14 in 6.339-6.475 rad/s, next to the fold at 6.339 (defects 3.5e-3 to 5.3e-3; Newton at
-H = 14 converges from none of their orbits), among them that fold, 6 branch points and 7
-Neimark-Sacker points, and the Neimark-Sacker point at 6.54329 (defect 1.3e-3; the H = 14
-branch has none within 1 %). 13 are left open: 8 resolved (defect <= 1e-3) and 5 that
-persist (an H = 14 Neimark-Sacker point within 1 %). Measured on the open Neimark-Sacker
-points by one period of the DAE with its variational equations (benchmarks/confirm_chain.py
---integrate): 7.30385 is confirmed (2 complex multipliers outside the unit circle at 7.18546,
-0 at 7.33522), pinned below.
+branch is continued afresh at H = 14 around the point. Of the 28 points, 19 are rejected:
+18 in 6.339-6.475 rad/s, next to the fold at 6.339 (defects 3.5e-3 to 5.3e-3), among them
+that fold, 6 branch points and 11 Neimark-Sacker points: Newton at H = 14 converges from
+none of their orbits, or the H = 14 branch has its Neimark-Sacker point at 6.32569 on an
+orbit unresolved too (defect 1.9e-3); and the Neimark-Sacker point at 6.54329 (defect 1.3e-3;
+the H = 14 branch has none within 1 %). 9 are left open: 8 resolved (defect <= 1e-3) and the
+Neimark-Sacker point at 6.65460, found at 6.59669 on a resolved H = 14 orbit (defect 9e-4).
+By one period of the DAE with its variational equations (benchmarks/confirm_chain.py
+--integrate) the open Neimark-Sacker point at 7.30385 is confirmed (2 complex multipliers
+outside the unit circle at 7.18546, 0 at 7.33522), pinned below.
 """
 
 from dataclasses import replace
@@ -24,16 +25,17 @@ from periodyn.config import load_sweep_file, project_root
 from periodyn.continuation import confirm_special_points
 from periodyn.study import load_study, run_study
 
-pytestmark = pytest.mark.slow  # the study alone is ~90 s CPU, its truncation check ~300 s under load
+pytestmark = pytest.mark.slow  # CPU: the branch ~90 s, its truncation check ~120 s, one integration ~40 s
 
 STUDY = project_root() / "sweeps" / "dae_slider_chain_pendulum.toml"
 NS, BP, FOLD = "neimark-sacker", "branch-point", "fold"
 OPEN = {  # omega (rad/s, 5 decimals) -> type: left open by the truncation check
-    7.23968: FOLD, 6.83196: NS, 6.60155: BP, 6.35407: NS, 6.34818: NS, 6.34559: NS, 6.34101: NS, 6.65460: NS,
-    6.90036: NS, 7.30385: NS, 9.60640: FOLD, 9.50780: BP, 9.50597: FOLD}
+    7.23968: FOLD, 6.83196: NS, 6.60155: BP, 6.65460: NS, 6.90036: NS, 7.30385: NS, 9.60640: FOLD, 9.50780: BP,
+    9.50597: FOLD}
 SPURIOUS = {  # rejected by it
-    6.54329: NS, 6.33989: NS, 6.33896: NS, 6.33877: FOLD, 6.33887: NS, 6.33960: NS, 6.34053: BP, 6.35007: BP,
-    6.34100: BP, 6.35908: BP, 6.35027: BP, 6.36891: BP, 6.41654: NS, 6.45647: NS, 6.47475: NS}
+    6.54329: NS, 6.35407: NS, 6.34818: NS, 6.34559: NS, 6.34101: NS, 6.33989: NS, 6.33896: NS, 6.33877: FOLD,
+    6.33887: NS, 6.33960: NS, 6.34053: BP, 6.35007: BP, 6.34100: BP, 6.35908: BP, 6.35027: BP, 6.36891: BP,
+    6.41654: NS, 6.45647: NS, 6.47475: NS}
 
 
 @pytest.fixture(scope="module")
