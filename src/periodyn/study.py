@@ -13,7 +13,8 @@ a ``periodyn.DAE``)::
     ds_max = 0.1                  # optional: largest arc-length step
     max_points = 800              # optional: points per branch at most
     tol = 1e-5                    # optional: residual max-norm of a point (SI units of the equations)
-    confirm = true                # optional: check each special point by direct integration (slow for big models)
+    confirm = "truncation"        # optional: check each special point against more harmonics (orbit defect, re-solve
+                                  # at H + 4); true: also integrate the survivors (slow for big models)
     parameter = { name = "f", start = 0.01, stop = 0.3, omega = 3.6 }   # optional curve at fixed omega
     period_doubling = { ds_max = 0.05, max_points = 150 }  # optional: follow the 2T branch
     time_history_omega = 3.6      # optional: read by the figure script only
@@ -158,7 +159,9 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     else:
         options["stability"] = stability
     if "confirm" in c:
-        options["confirm"] = check.boolean(c["confirm"], "[continuation] confirm")
+        if c["confirm"] != "truncation":
+            check.boolean(c["confirm"], "[continuation] confirm (true, false or \"truncation\")")
+        options["confirm"] = c["confirm"]
     if "subharmonic" in c:
         options["subharmonic"] = check.integer(c["subharmonic"], "[continuation] subharmonic", 1)
     parameter = None

@@ -4,13 +4,16 @@
 points, period doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
 ``Branch`` and its netCDF file), ``driver`` (``continuation`` for IHB and shooting with
 ``ContinuationOptions``), ``switching`` (onto the period-doubled branch, or the crossing branch at a branch
-point), ``confirm`` (each special point checked by the monodromy of a direct integration).
+point), ``truncation`` (each special point's orbit defect, and the point re-solved with more
+harmonics where the orbit is unresolved), ``confirm`` (the truncation check, then the monodromy
+of a direct integration).
 """
 
 from .branch import Branch, SpecialPoint, load_branch
 from .confirm import confirm_special_points
 from .driver import ContinuationOptions, continuation
 from .switching import switch_branch, switch_period_doubling
+from .truncation import check_truncation, orbit_defect
 
-__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "confirm_special_points", "continuation", "load_branch",
-           "switch_branch", "switch_period_doubling"]
+__all__ = ["Branch", "ContinuationOptions", "SpecialPoint", "check_truncation", "confirm_special_points", "continuation",
+           "load_branch", "orbit_defect", "switch_branch", "switch_period_doubling"]

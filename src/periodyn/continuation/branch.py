@@ -20,7 +20,8 @@ variable               dims                             meaning
                                                         multiplier, amplitude, multipliers, test
                                                         values, critical eigenvector (unknown),
                                                         the orbit's harmonics there, confirmed
-                                                        (1, 0, -1 unchecked) and check (reason)
+                                                        (1, 0, -1 unchecked), check (reason)
+                                                        and defect (orbit defect)
 =====================  ===============================  =======================================
 
 Attributes: parameter_name ('' for omega), status, method, subharmonic, options (JSON).
@@ -56,8 +57,9 @@ class SpecialPoint:
     branch points and at the located point (dp/ds for folds, sign(det(M - I)) min|mu - 1|
     for branch points, |mu| - 1 of the multiplier of the crossing kind nearest the unit circle
     otherwise; None when refinement failed); confirmed: the
-    verdict of ``confirm_special_points`` (direct integration; None when not checked) and
-    check: its reason.
+    verdict of ``check_truncation`` / ``confirm_special_points`` (None when not checked or
+    not decided), check: its reason; defect: the orbit defect there (``orbit_defect``,
+    dimensionless; nan when not checked).
     """
 
     type: str
@@ -71,6 +73,7 @@ class SpecialPoint:
     test_values: np.ndarray | None = None
     confirmed: bool | None = None
     check: str = ""
+    defect: float = float("nan")
 
     @property
     def multipliers(self) -> np.ndarray | None:
@@ -156,7 +159,8 @@ class Branch:
                                           _stack([p.solution and _lam(p.solution) for p in sps], _lam(s0).shape)),
              "special_confirmed": ("special", np.array([-1 if p.confirmed is None else int(p.confirmed) for p in sps],
                                                        np.int8)),
-             "special_check": ("special", np.array([p.check for p in sps], dtype=str))},
+             "special_check": ("special", np.array([p.check for p in sps], dtype=str)),
+             "special_defect": ("special", np.array([p.defect for p in sps], float))},
             coords={"harmonic": np.arange(-s0.m, s0.m + 1), "coordinate": list(s0.coordinate_names),
                     "constraint": list(s0.constraint_names)})
         opts = {k: v for k, v in self.options.items() if isinstance(v, (int, float, str, bool, type(None)))}
@@ -210,11 +214,12 @@ def load_branch(path) -> Branch:
 
 
 def _verdict(v: dict, j: int) -> tuple:
-    """(confirmed, check) of special point j; (None, "") in files written before the check."""
+    """(confirmed, check, defect) of special point j; (None, "", nan) in files written before the check."""
     if "special_confirmed" not in v:
-        return None, ""
+        return None, "", np.nan
     c = int(v["special_confirmed"][j])
-    return (None if c < 0 else bool(c)), str(v["special_check"][j])
+    defect = float(v["special_defect"][j]) if "special_defect" in v else np.nan
+    return (None if c < 0 else bool(c)), str(v["special_check"][j]), defect
 
 
 def _lam(sol) -> np.ndarray:

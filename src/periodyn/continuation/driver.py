@@ -41,8 +41,9 @@ class ContinuationOptions:
     IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
     (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
     of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
-    its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: check
-    every special point by direct integration (``confirm_special_points``, its defaults);
+    its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: True
+    checks every special point (``confirm_special_points``, its defaults: truncation, then
+    direct integration), "truncation" only against more harmonics (``check_truncation``);
     shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
     models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
     shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
@@ -58,7 +59,7 @@ class ContinuationOptions:
     subharmonic: int = 1
     stability: str | None = "magnus"
     shooting_samples: int = 128
-    confirm: bool = False
+    confirm: bool | str = False
     shooting_method: str = "auto"
     shooting_steps: int = STEPS
 
@@ -68,6 +69,8 @@ class ContinuationOptions:
                              f"ds_min={self.ds_min}, ds_max={self.ds_max}")
         if self.max_points < 2 or self.max_iter < 1:
             raise InputError("max_points must be >= 2 and max_iter >= 1")
+        if self.confirm not in (True, False, "truncation"):
+            raise InputError(f"confirm must be True, False or 'truncation', got {self.confirm!r}")
         if self.shooting_method not in ("auto", "DOP853", "implicit"):
             raise InputError(f"shooting_method must be 'auto', 'DOP853' or 'implicit', got {self.shooting_method!r}")
         if self.stability is not None and self.stability not in STABILITY_METHODS:
@@ -247,7 +250,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
                                                            if f.name not in ("tol", "samples")})
     branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
                                    np.array([pt.X for pt in pts]))
-    return confirm_special_points(branch) if opts.confirm else branch
+    return confirm_special_points(branch, integrate=opts.confirm is True) if opts.confirm else branch
 
 
 def _known(values: dict) -> dict:

@@ -135,20 +135,33 @@ class IHBProblem:
         """(R (size,), J sparse csc (size, size))."""
         return self._evaluate(X, omega, params, jacobian=True)
 
+    def sampled_residual(self, X: np.ndarray, omega: float, params=None):
+        """The DAE residual at the p sample times, before projection: (t (p,), r1 =
+        M q'' + Phi_q^T lambda - f (p, n) in N or N m, r2 = Phi (p, m) in m or rad, f (p, n))."""
+        P = self.system.parameters if params is None else params
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        r1, r2, f = self._sampled(t, q, qd, qdd, lam, omega, P)[:3]
+        return t, r1, r2, f
+
+    def _sampled(self, t, q, qd, qdd, lam, omega, P):
+        """(r1, r2, f, M, Phi_q) at the samples (r2, Phi_q empty without constraints)."""
+        sysm = self.system
+        M = sysm.mass(q)
+        Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
+        f = sysm.force(q, qd, t, omega, P)
+        r1 = Ma - f
+        if not self.m:
+            return r1, np.zeros((len(t), 0)), f, M, None
+        Pq = sysm.constraint_jacobian(q, t, omega, P)
+        r1 += np.matmul(lam[:, None, :], Pq)[:, 0]
+        return r1, sysm.constraint(q, t, omega, P), f, M, Pq
+
     def _evaluate(self, X, omega, params, jacobian):
         sysm = self.system
         P = sysm.parameters if params is None else params
         t, q, qd, qdd, lam = self.time_samples(X, omega)
-        M = sysm.mass(q)
-        Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
-        r1 = Ma - sysm.force(q, qd, t, omega, P)
-        if self.m:
-            Pq = sysm.constraint_jacobian(q, t, omega, P)
-            r1 += np.matmul(lam[:, None, :], Pq)[:, 0]
-            r2 = sysm.constraint(q, t, omega, P)
-            R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H))
-        else:
-            R = self.join(real_coefficients(r1, self.H), np.zeros((self.L, 0)))
+        r1, r2, _, M, Pq = self._sampled(t, q, qd, qdd, lam, omega, P)
+        R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H) if self.m else np.zeros((self.L, 0)))
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
@@ -158,7 +171,7 @@ class IHBProblem:
         if sysm.mass_jacobian is not None:
             Kt += sysm.mass_jacobian(q, qdd)
         Ct = -Cf
-        return R, self._assemble(Kt, Ct, M, Pq if self.m else None, omega)
+        return R, self._assemble(Kt, Ct, M, Pq, omega)
 
     def _assemble(self, Kt, Ct, M, Pq, omega):
         """Sparse Jacobian on the problem's fixed pattern (``periodyn.nonlinear.ihb_jacobian``), rebuilt
