@@ -33,7 +33,7 @@ def check_constraints(model) -> None:
     singular in the reference configuration (a mechanism that is under-constrained in
     some coordinates and over-constrained in some equations)."""
     D, Dx, Dxx, Dxxx, Phi, J = constraints.allocate_equations(model.arrays)
-    constraints.equations(model.arrays, model.x_reference, D, Dx, Dxx, Dxxx, Phi, J)
+    constraints.equations(model.arrays, model.x_reference, model.arrays.rhs0, D, Dx, Dxx, Dxxx, Phi, J)
     U, s, Vt = np.linalg.svd(J)
     if s[-1] > 1e-10 * s[0]:
         return

@@ -59,7 +59,7 @@ def test_constraint_jacobian_of_a_rod_chain():
     arr = model.arrays
     x = nominal_configurations(model, 8)[3]
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
-    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+    equations(arr, x, arr.rhs0, D, Dx, Dxx, Dxxx, Phi, J)
     LU, piv = factor(J)
     Fq = arr.rhs_q.copy()
     lu_solve(LU, piv, Fq)

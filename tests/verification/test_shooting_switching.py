@@ -90,3 +90,22 @@ def test_switching_from_a_shooting_branch_needs_a_refined_point(upper):
     (bp,) = upper.points("branch-point")
     with pytest.raises(InputError, match="not refined"):
         switch_branch(upper, type(bp)("branch-point", bp.index, bp.omega, bp.parameter * 1.001), 2.0)
+
+
+def test_a_saved_and_loaded_branch_switches_like_the_one_in_memory(upper, tmp_path):
+    """The special point's refined unknowns and the problem's references go to the file:
+    the loaded branch, given its system, switches at its branch point onto the same
+    asymmetric branch (short range: the first points past the pitchfork)."""
+    from periodyn.continuation import load_branch
+    loaded = load_branch(upper.save(tmp_path / "upper.nc"))
+    (bp,) = loaded.points("branch-point")
+    for a, b in zip(upper.options["special_unknowns"], loaded.options["special_unknowns"]):
+        np.testing.assert_array_equal(a, b)
+    with pytest.raises(InputError, match="pass system="):
+        switch_branch(loaded, bp, 2.06)
+    here = switch_branch(upper, upper.points("branch-point")[0], 2.06)
+    there = switch_branch(loaded, bp, 2.06, system=_system())
+    assert len(there) == len(here) >= 3
+    np.testing.assert_array_equal(there.omega, here.omega)
+    for a, b in zip(here.solutions, there.solutions):
+        np.testing.assert_array_equal(a.harmonics, b.harmonics)

@@ -22,9 +22,17 @@ variable               dims                             meaning
                                                         the orbit's harmonics there, confirmed
                                                         (1, 0, -1 unchecked), check (reason)
                                                         and defect (orbit defect)
+``special_unknowns``   (special, unknown)               the discretization's unknowns at the
+                                                        refined point (nan if not refined)
+``problem_references`` (reference, coordinate)          shooting only: the configurations at
+                                                        which the problem chose its independent
+                                                        coordinates (those of the unknowns)
 =====================  ===============================  =======================================
 
 Attributes: parameter_name ('' for omega), status, method, subharmonic, options (JSON).
+Loaded, the special unknowns and references are ``options["special_unknowns"]`` and
+``options["problem_references"]``: with the options they rebuild the problem, so that a
+loaded branch can be switched from (``switch_branch(..., system=)``).
 """
 
 from __future__ import annotations
@@ -151,8 +159,7 @@ class Branch:
              "special_multipliers": (("special", "multiplier"), _multipliers([p.solution for p in sps],
                                                                              len(_multipliers(sols)[0]))),
              "special_test_values": (("special", "test"), _rows([p.test_values for p in sps], 3)),
-             "special_eigenvector": (("special", "unknown"),
-                                     _rows([p.eigenvector for p in sps], _width([p.eigenvector for p in sps]))),
+             **self._unknown_variables(),
              "special_harmonics": (("special", "harmonic", "coordinate"),
                                    _stack([p.solution and p.solution.harmonics for p in sps], s0.harmonics.shape)),
              "special_lambda_harmonics": (("special", "harmonic", "constraint"),
@@ -169,9 +176,23 @@ class Branch:
                         stability_method=_stability_method(sols))
         return ds
 
+    def _unknown_variables(self) -> dict:
+        """Variables in the discretization's unknowns: the special points' critical vectors
+        and refined unknowns, and a shooting problem's references (module docstring)."""
+        vectors = [p.eigenvector for p in self.special_points]
+        unknowns = list(self.options.get("special_unknowns", ())) or [None] * len(vectors)
+        width = _width(vectors + unknowns)
+        out = {"special_eigenvector": (("special", "unknown"), _rows(vectors, width)),
+               "special_unknowns": (("special", "unknown"), _rows(unknowns, width))}
+        references = getattr(self.problem, "refs", self.options.get("problem_references"))
+        if references is not None:
+            out["problem_references"] = (("reference", "coordinate"), np.asarray(references, float))
+        return out
+
     @classmethod
     def from_dataset(cls, ds: xr.Dataset) -> "Branch":
-        """A Branch from :meth:`to_dataset` output (problem and unknowns are not stored)."""
+        """A Branch from :meth:`to_dataset` output (the problem and the points' unknowns are not
+        stored; the special points' unknowns are, in ``options``)."""
         nu, method = int(ds.attrs["subharmonic"]), str(ds.attrs["method"])
         smethod = ds.attrs.get("stability_method", "")
         names = tuple(str(c) for c in ds["coordinate"].values)
@@ -199,8 +220,13 @@ class Branch:
                                          complex(v["special_multiplier"][j]), v["special_amplitude"][j], sol,
                                          _row(v, "special_eigenvector", j), _row(v, "special_test_values", j),
                                          *_verdict(v, j)))
+        options = json.loads(ds.attrs["options"])
+        if "special_unknowns" in v:
+            options["special_unknowns"] = tuple(_row(v, "special_unknowns", j) for j in range(ds.sizes["special"]))
+        if "problem_references" in v:
+            options["problem_references"] = v["problem_references"]
         branch = cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
-                                    options=json.loads(ds.attrs["options"]), amplitude=v["amplitude"])
+                                    options=options, amplitude=v["amplitude"])
         return replace(branch, max_multiplier=v["max_multiplier"])  # as stored, not exp(log(mu))
 
     def save(self, path):

@@ -1,6 +1,7 @@
 """``continuation``: response curves of a ``periodyn.DAE`` by IHB or shooting.
 
-A discretization (:class:`_IHB`, :class:`_Shooting`) gives ``equations(X, omega, P)``,
+A discretization (:class:`_IHB`, :class:`_Shooting`, :class:`_Implicit`, each a
+:class:`_Discretization`) gives ``equations(X, omega, P)``,
 ``residual``, ``exponents`` (Floquet, or None) and ``solution``; the arc-length driver
 (``palc``) sees only ``R(X, p)``; special points are classified and refined by ``events``.
 """
@@ -77,7 +78,22 @@ class ContinuationOptions:
             raise InputError(f"stability must be one of {STABILITY_METHODS} or None, got {self.stability!r}")
 
 
-class _IHB:
+class _Discretization:
+    """Residual R(X, omega, P) and Jacobian of a discretization's problem ``prob``:
+    ``equations`` for the corrector (a subclass may reuse Jacobians), ``exact_equations``
+    for tangents and special points, ``residual`` alone."""
+
+    def exact_equations(self, X, om, P):
+        return self.prob.equations(X, om, P)
+
+    def equations(self, X, om, P):
+        return self.exact_equations(X, om, P)
+
+    def residual(self, X, om, P):
+        return self.prob.residual(X, om, P)
+
+
+class _IHB(_Discretization):
     def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
         self.prob = IHBProblem(system, harmonics, opts.samples, opts.subharmonic)
         self.tol = 1e-8 if opts.tol is None else opts.tol
@@ -87,13 +103,8 @@ class _IHB:
         X0 = self.prob.from_solution(initial) if initial is not None else self.prob.initial(omega=om0, params=P0)
         self.X0 = self.prob.newton(X0, om0, P0, self.tol).x
 
-    def equations(self, X, om, P):
+    def exact_equations(self, X, om, P):
         return self.prob.residual_jacobian(X, om, P)
-
-    exact_equations = equations
-
-    def residual(self, X, om, P):
-        return self.prob.residual(X, om, P)
 
     def exponents(self, X, om, P):
         return None if self.stability is None else self.prob.exponents(X, om, P, self.stability)
@@ -102,7 +113,7 @@ class _IHB:
         return self.prob.solution(X, om, P, rn, it, exps)
 
 
-class _Shooting:
+class _Shooting(_Discretization):
     def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0, parameter=None):
         self.tol = 1e-9 if opts.tol is None else opts.tol
         self.H = harmonics
@@ -118,14 +129,8 @@ class _Shooting:
     def equations(self, X, om, P):  # reused Jacobians between exact ones (nonlinear.chord)
         return self.chord.equations(X, om, P)
 
-    def exact_equations(self, X, om, P):
-        return self.prob.equations(X, om, P)
-
     def parameter_derivative(self, X, om, P):
         return self.chord.parameter_derivative(X, om, P)
-
-    def residual(self, X, om, P):
-        return self.prob.residual(X, om, P)
 
     def exponents(self, X, om, P):
         return self.prob.exponents(X, om, P)
@@ -134,7 +139,7 @@ class _Shooting:
         return self.prob.solution(X, om, P, rn, it, exps, self.H)
 
 
-class _Implicit:
+class _Implicit(_Discretization):
     """Shooting on the trapezoidal one-period map of an element model (``ImplicitProblem``)."""
 
     def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
@@ -148,14 +153,6 @@ class _Implicit:
         self.groups = None
         self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
         self._last = (None, None)
-
-    def equations(self, X, om, P):
-        return self.prob.equations(X, om, P)
-
-    exact_equations = equations
-
-    def residual(self, X, om, P):
-        return self.prob.residual(X, om, P)
 
     def _solution(self, X, om, P):
         key = (np.asarray(X, float).tobytes(), float(om))

@@ -10,7 +10,12 @@ shooting Jacobian M - I (``point.eigenvector``); at a period doubling the T-orbi
 fixed point of the 2T map, whose Jacobian M^2 - I is singular along the eigenvector of M
 for the multiplier -1: a pitchfork of the 2T problem, left along that eigenvector. Both
 vectors are carried from the branch's independent coordinates to those of the new
-shooting problem through the full state (q, q')."""
+shooting problem through the full state (q, q').
+
+A branch loaded from a file (``load_branch``) has no problem: given ``system=`` (the system
+it was computed for), its problem is rebuilt from the stored options (and, for shooting, the
+stored references that fix its independent coordinates), and the special point's stored
+unknowns start the switch as the in-memory ones do."""
 
 from __future__ import annotations
 
@@ -31,7 +36,7 @@ __all__ = ["switch_branch", "switch_period_doubling"]
 
 
 def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *, amplitude: float = 1e-2,
-                           **kwargs) -> Branch:
+                           system=None, **kwargs) -> Branch:
     """Follow the period-doubled (period 2T) branch born at a period-doubling ``point`` of
     an IHB or shooting ``branch``, toward parameter ``p_stop`` (shooting: module docstring).
 
@@ -41,24 +46,23 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
     2T and mapped to q by the null-space basis) has only odd harmonics of omega/2 and is
     orthogonal to that branch, so it is the initial tangent of the new branch (the PD
     point is a pitchfork of the 2T problem). amplitude: relative size of the first step
-    along the mode. kwargs go to :func:`continuation`.
+    along the mode. system: the branch's system, for a branch loaded from a file (module
+    docstring). kwargs go to :func:`continuation`.
     """
     if point.type != "period-doubling":
         raise InputError(f"point is a {point.type!r}, not a period-doubling point")
-    prob = branch.problem
+    prob, system = _problem(branch, system)
     if isinstance(prob, ShootingProblem):
-        return _switch_shooting(branch, point, p_stop, 1, kwargs)
-    if not isinstance(prob, IHBProblem):
-        raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
-    system = branch.options["system"]
+        return _switch_shooting(branch, prob, system, point, p_stop, 1, kwargs)
     k = point.index if abs(branch.parameter[point.index] - point.parameter) <= abs(
         branch.parameter[point.index + 1] - point.parameter) else point.index + 1
     name = branch.parameter_name
     om = point.omega
     P = branch.solutions[k].parameters if name is None else dict(branch.solutions[k].parameters,
                                                                   **{name: point.parameter})
-    # the T-orbit exactly at the bifurcation point
-    Xpd = prob.newton(branch.unknowns[k], om, P, branch.options["tol"]).x
+    # the T-orbit exactly at the bifurcation point, from the refined one when the branch kept it
+    X = _special_unknowns(branch, point)
+    Xpd = prob.newton(branch.unknowns[k] if X is None else X, om, P, branch.options["tol"]).x
     sol = prob.solution(Xpd, om, P, 0.0, 0)
     H, H2 = prob.H, 2 * prob.H
     cq = np.zeros((2 * H2 + 1, system.n), complex)  # harmonic l of omega -> harmonic 2l of omega/2
@@ -89,7 +93,8 @@ def switch_period_doubling(branch: Branch, point: SpecialPoint, p_stop: float, *
                         samples=prob2.p, tangent=tangent, **opts)
 
 
-def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: int = 1, **kwargs) -> Branch:
+def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: int = 1, system=None,
+                  **kwargs) -> Branch:
     """Follow the branch crossing an IHB or shooting ``branch`` at a branch ``point`` toward
     parameter ``p_stop`` (shooting: module docstring).
 
@@ -100,17 +105,16 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: i
     point the corrector bends the step onto it). The new branch is then traced by the
     usual pseudo-arc-length steps from the orbit at the point; side (+1 or -1) takes the
     first step along +phi or -phi (the two mirror branches of a pitchfork, the two halves of
-    a transcritical crossing); kwargs go to :func:`continuation` (e.g. ds, the first step).
+    a transcritical crossing); system: the branch's system, for a branch loaded from a file
+    (module docstring); kwargs go to :func:`continuation` (e.g. ds, the first step).
     """
     if side not in (1, -1):
         raise InputError(f"side must be +1 or -1 (the sign of the first step along the critical vector), got {side!r}")
     if point.type != "branch-point":
         raise InputError(f"point is a {point.type!r}, not a branch point")
-    prob = branch.problem
+    prob, system = _problem(branch, system)
     if isinstance(prob, ShootingProblem):
-        return _switch_shooting(branch, point, p_stop, side, kwargs)
-    if not isinstance(prob, IHBProblem):
-        raise InputError("branch switching needs an IHB branch computed in this session (not loaded from a file)")
+        return _switch_shooting(branch, prob, system, point, p_stop, side, kwargs)
     if point.solution is None or point.eigenvector is None:
         raise InputError("the branch point was not refined (no orbit or critical eigenvector): continue with a "
                          "smaller ds_max so its refinement converges")
@@ -121,22 +125,48 @@ def switch_branch(branch: Branch, point: SpecialPoint, p_stop: float, *, side: i
     param_arg = None if name is None else (name, point.parameter, p_stop)
     opts = {k: branch.options[k] for k in ("stability", "tol", "ds_max", "ds_min", "max_iter") if k in branch.options}
     opts.update(kwargs)
-    return continuation(branch.options["system"], omega_arg, prob.H, "ihb", param_arg, initial=sol,
+    return continuation(system, omega_arg, prob.H, "ihb", param_arg, initial=sol,
                         subharmonic=prob.nu, samples=prob.p, tangent=tangent, **opts)
 
 
-def _switch_shooting(branch: Branch, point: SpecialPoint, p_stop: float, side: int, kwargs: dict) -> Branch:
+def _problem(branch: Branch, system) -> tuple:
+    """(problem, system) of an IHB or shooting branch: its own, or rebuilt for a branch
+    loaded from a file from ``system`` and the stored options (module docstring)."""
+    opts, prob = branch.options, branch.problem
+    if prob is not None:
+        system = opts["system"]
+    elif system is None:
+        raise InputError("the branch was loaded from a file and has no problem: pass system= (the system it was "
+                         "computed for) to switch from it")
+    elif opts.get("method") == "ihb":
+        prob = IHBProblem(system, opts["harmonics"], opts["samples"], opts["subharmonic"])
+    elif "problem_references" in opts:
+        prob = ShootingProblem(system, opts["problem_references"], opts["subharmonic"],
+                               samples=opts["shooting_samples"], parameter=branch.parameter_name)
+    if not isinstance(prob, (IHBProblem, ShootingProblem)):
+        raise InputError("branch switching needs an IHB branch or a shooting branch on the adaptive integrator "
+                         "(DOP853), computed in this session or loaded from its file")
+    return prob, system
+
+
+def _special_unknowns(branch: Branch, point: SpecialPoint):
+    """The refined unknowns the branch kept for ``point`` (None when not refined)."""
+    known = [j for j, sp in enumerate(branch.special_points)
+             if (sp.type, sp.index, sp.parameter) == (point.type, point.index, point.parameter)]
+    kept = branch.options.get("special_unknowns", ())
+    return kept[known[0]] if known and kept else None
+
+
+def _switch_shooting(branch: Branch, prob, system, point: SpecialPoint, p_stop: float, side: int,
+                     kwargs: dict) -> Branch:
     """Shooting continuation from the refined orbit at ``point`` along its critical vector
     (module docstring): the branch point's null vector, or the period doubling's -1
     eigenvector of M on the 2T problem."""
-    prob, opts_in, name = branch.problem, branch.options, branch.parameter_name
-    known = [j for j, sp in enumerate(branch.special_points)
-             if (sp.type, sp.index, sp.parameter) == (point.type, point.index, point.parameter)]
-    X = opts_in.get("special_unknowns", ())[known[0]] if known and opts_in.get("special_unknowns") else None
+    opts_in, name = branch.options, branch.parameter_name
+    X = _special_unknowns(branch, point)
     if X is None:
         raise InputError("the special point was not refined (no orbit): continue with a smaller ds_max so its "
                          "refinement converges, then switch")
-    system = opts_in["system"]
     om = point.omega
     P = dict(system.parameters, **point.solution.parameters)
     q, qd = prob.full_state(X, om, P, 0)

@@ -56,14 +56,10 @@ def _check(alpha, elements):
 
 def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, torsion_kelvin_voigt: float = 0.0,
                        output_torque: float = CARDAN["output_torque"], elements: int = 2,
-                       rotary_inertia: bool = True, split_input: bool = False):
+                       rotary_inertia: bool = True):
     """The compiled element model; kelvin_voigt / torsion_kelvin_voigt: material damping
     time constants (s) of bending and torsion; elements: beam elements (even);
-    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper);
-    split_input: drive the input shaft through two coaxial hinges at half the rate (the
-    same motion; for the non-linear equations, whose one-period map ends at an input angle
-    of 2 pi, the edge of a hinge angle's range (-2 pi, 2 pi], where a rounding error puts
-    the configuration on the wrong branch).
+    rotary_inertia: the sections' rotary inertia (lumped at the nodes, as the paper).
     Torsion and bending of every element are dynamic, elongation rigid."""
     _check(alpha, elements)
     L, ca, sa = CARDAN["length"], np.cos(alpha), np.sin(alpha)
@@ -76,14 +72,8 @@ def cardan_shaft_model(alpha: float = np.pi / 6, *, kelvin_voigt: float = 0.0, t
         m.add_orientation(name, rotation)
         m.fix(name)
     m.add_orientation("shaft_in")
-    if split_input:  # two hinges at half the rate: each turns pi per revolution, inside (-2 pi, 2 pi]
-        m.add_orientation("shaft_half")
-        m.add_hinge("bearing_in", ("ground_in", "shaft_half"), axis=(1, 0, 0))
-        m.add_hinge("bearing_in_half", ("shaft_half", "shaft_in"), axis=(1, 0, 0))
-        m.prescribe("bearing_in_half.rotation", rate=0.5)
-    else:
-        m.add_hinge("bearing_in", ("ground_in", "shaft_in"), axis=(1, 0, 0))
-    m.prescribe("bearing_in.rotation", rate=0.5 if split_input else 1.0)
+    m.add_hinge("bearing_in", ("ground_in", "shaft_in"), axis=(1, 0, 0))
+    m.prescribe("bearing_in.rotation")
     # the drive shaft: points and orientation nodes along the chord
     points, nodes = [f"P{i}" for i in range(elements + 1)], [f"R{i}" for i in range(elements + 1)]
     for i, (point, node) in enumerate(zip(points, nodes)):
@@ -127,7 +117,7 @@ def cardan_frequencies(model) -> dict[str, float]:
     return {"bending": float(omega[share < 0.5][0]), "torsion": float(omega[share >= 0.5][0])}
 
 
-def _damped_model(alpha, damping, elements, split_input=False):
+def _damped_model(alpha, damping, elements):
     """(compiled model with Kelvin-Voigt damping giving ``damping`` of critical in the
     first bending and torsion modes of the straight unloaded shaft, its metadata)."""
     if not (isinstance(damping, (int, float)) and 0 <= damping < 1):
@@ -136,8 +126,7 @@ def _damped_model(alpha, damping, elements, split_input=False):
     freq = cardan_frequencies(cardan_shaft_model(0.0, output_torque=0.0, elements=elements))
     # S_d = beta S gives modal damping beta * omega / 2 in a mode that strains only those modes
     beta_b, beta_t = 2.0 * damping / freq["bending"], 2.0 * damping / freq["torsion"]
-    model = cardan_shaft_model(alpha, kelvin_voigt=beta_b, torsion_kelvin_voigt=beta_t, elements=elements,
-                               split_input=split_input)
+    model = cardan_shaft_model(alpha, kelvin_voigt=beta_b, torsion_kelvin_voigt=beta_t, elements=elements)
     return model, {"omega_b": freq["bending"], "omega_t": freq["torsion"], "alpha": float(alpha),
                    "damping": float(damping), "kelvin_voigt": beta_b, "torsion_kelvin_voigt": beta_t}
 
@@ -163,7 +152,7 @@ def cardan_shaft_nonlinear(alpha: float = np.pi / 6, damping: float = 0.01, elem
     :func:`cardan_shaft`'s."""
     from ..nonlinear.elements import element_dae
 
-    model, metadata = _damped_model(alpha, damping, elements, split_input=True)
+    model, metadata = _damped_model(alpha, damping, elements)
     system = element_dae(model, name=f"cardan_shaft_nonlinear(alpha={alpha:.6g}, damping={damping})")
     system.metadata = metadata
     return system

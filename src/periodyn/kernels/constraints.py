@@ -12,11 +12,20 @@ widths of ``dofs`` and ``modes``, see :mod:`.layout`).
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import literal_unroll, njit
 
 from .layout import (FAMILY_EULER_NORMALIZATION, FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS,
                      FAMILY_RIGID_LINK, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
 from . import planar_beam, planar_hinge, planar_truss, spatial_beam, spatial_joints, spatial_truss
+
+TWO_PI = 2.0 * np.pi
+
+#: (family id, its deformation kernel); unrolled at compile time into one test per family
+DEFORMATION = ((FAMILY_PLANAR_BEAM, planar_beam.deformation), (FAMILY_PLANAR_TRUSS, planar_truss.deformation),
+               (FAMILY_PLANAR_HINGE, planar_hinge.deformation), (FAMILY_SPATIAL_BEAM, spatial_beam.deformation),
+               (FAMILY_EULER_NORMALIZATION, spatial_joints.normalization),
+               (FAMILY_SPATIAL_TRUSS, spatial_truss.deformation), (FAMILY_SPATIAL_HINGE, spatial_joints.hinge),
+               (FAMILY_RIGID_LINK, spatial_joints.rigid_link))
 
 ModelArrays = namedtuple("ModelArrays", [
     "family",       # (ne,) int64 family id
@@ -50,23 +59,16 @@ def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
         nd = arr.ndof[e]
         for a in range(nd):
             xe[a] = x[arr.dofs[e, a]]
-        fam = arr.family[e]
-        if fam == FAMILY_PLANAR_BEAM:
-            planar_beam.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_PLANAR_TRUSS:
-            planar_truss.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_PLANAR_HINGE:
-            planar_hinge.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_EULER_NORMALIZATION:
-            spatial_joints.normalization(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_SPATIAL_TRUSS:
-            spatial_truss.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_SPATIAL_HINGE:
-            spatial_joints.hinge(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_RIGID_LINK:
-            spatial_joints.rigid_link(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
-        elif fam == FAMILY_SPATIAL_BEAM:
-            spatial_beam.deformation(xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        deformation(arr.family[e], xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+
+
+@njit(cache=True)
+def deformation(family, xe, par, D, Dx, Dxx, Dxxx):
+    """The deformation kernel of the element family with id ``family`` (:data:`DEFORMATION`;
+    a family without modes, such as a rigid body, leaves D and its derivatives as they are)."""
+    for entry in literal_unroll(DEFORMATION):
+        if family == entry[0]:
+            entry[1](xe, par, D, Dx, Dxx, Dxxx)
 
 
 @njit(cache=True)
@@ -86,15 +88,22 @@ def allocate_equations(arr):
 
 
 @njit(cache=True)
-def equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J):
-    """Element tensors, constraint equations Phi and their Jacobian J at x (n_x,), in place."""
+def equations(arr, x, b, D, Dx, Dxx, Dxxx, Phi, J):
+    """Element tensors, constraint equations Phi and their Jacobian J at x (n_x,), in place,
+    for the right-hand side b (n_x,) (see :func:`constraints`; pass ``arr.rhs0`` where only
+    the tensors and J are wanted)."""
     element_tensors(arr, x, D, Dx, Dxx, Dxxx)
-    constraints(arr, x, D, Dx, Phi, J)
+    constraints(arr, x, b, D, Dx, Phi, J)
 
 
 @njit(cache=True)
-def constraints(arr, x, D, Dx, Phi, J):
-    """Overwrite Phi (n_x,) and its Jacobian J (n_x, n_x) from element tensors D, Dx."""
+def constraints(arr, x, b, D, Dx, Phi, J):
+    """Overwrite Phi (n_x,) and its Jacobian J (n_x, n_x) from element tensors D, Dx.
+
+    The rotation of a spatial hinge is an angle, defined modulo 2 pi (its mode is continuous
+    only within one turn of the reference, :mod:`.spatial_joints`): its row is taken on the
+    branch nearest its right-hand side b (n_x,), so that ``Phi - b`` is continuous however
+    many turns a prescribed hinge makes."""
     Phi[:] = 0.0
     J[:] = 0.0
     for i in range(x.shape[0]):
@@ -108,6 +117,8 @@ def constraints(arr, x, D, Dx, Phi, J):
             if row < 0:
                 continue
             Phi[row] = D[e, k]
+            if k == spatial_joints.HINGE_ROTATION and arr.family[e] == FAMILY_SPATIAL_HINGE:
+                Phi[row] += TWO_PI * np.round((b[row] - Phi[row]) / TWO_PI)
             for a in range(arr.ndof[e]):
                 J[row, arr.dofs[e, a]] += Dx[e, k, a]
 

@@ -43,8 +43,8 @@ def _step(data, t1, h, y0, f0, J0, y1, f1, J1, tol, max_iter):
     """Simplified Newton for y1 (predicted on entry) of one trapezoidal step from (y0, f0)
     with the iteration matrix I - h/2 J0 of the step's start (accelerations only per
     iteration); on success f1 = f(t1, y1) and J1 the Jacobian at y1 (one evaluation with
-    Jacobians). Returns the iterations (>= 0), -1 when a state has no acceleration, -2
-    when the iteration did not converge in max_iter."""
+    Jacobians). Returns the iterations (>= 0), -1 when a state has no acceleration (or
+    its Jacobian is not finite), -2 when the iteration did not converge in max_iter."""
     n2 = y0.shape[0]
     n = n2 // 2
     acc = np.empty(n)
@@ -65,7 +65,7 @@ def _step(data, t1, h, y0, f0, J0, y1, f1, J1, tol, max_iter):
                 return -1
             f1[n:] = acc
             _jacobian(Gq, Gv, J1)
-            return it
+            return it if np.all(np.isfinite(J1)) else -1
         if it == max_iter:
             return -2
         y1 -= np.linalg.solve(A, G)
@@ -78,8 +78,8 @@ def period_map(data, y0, t0, T, steps, tol, max_iter, Y, S, counts):
 
     Writes Y (steps + 1, 2n): states at t0 + k T / steps, S (2n, 2n): d y(T) / d y0 of the
     discrete map, counts (2,): evaluations and Newton updates. Returns ``steps`` on
-    success, else the index of the failed step (its state has no acceleration or Newton
-    did not converge)."""
+    success, else the index of the failed step (its state has no acceleration, a
+    Jacobian that is not finite, or Newton did not converge)."""
     n2 = y0.shape[0]
     n = n2 // 2
     h = T / steps
@@ -98,6 +98,8 @@ def period_map(data, y0, t0, T, steps, tol, max_iter, Y, S, counts):
     f0[:n] = y0[n:]
     f0[n:] = acc
     _jacobian(Gq, Gv, J0)
+    if not np.all(np.isfinite(J0)):
+        return 0
     f1 = np.empty(n2)
     y1 = np.empty(n2)
     S[:] = eye

@@ -36,12 +36,13 @@ def _configuration(arr, x, q, xs, qs, Fs, tol, max_iter, D, Dx, Dxx, Dxxx, Phi, 
     x[:] = xs + Fs @ (q - qs)
     res = np.inf
     for it in range(max_iter + 1):
-        constraints.equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+        constraints.equations(arr, x, b, D, Dx, Dxx, Dxxx, Phi, J)
         res = np.max(np.abs(Phi - b))
         if res <= tol:
             return it, res
-        if it < max_iter:
-            x -= np.linalg.solve(J, Phi - b)
+        if it == max_iter or not np.isfinite(res):
+            break
+        x -= np.linalg.solve(J, Phi - b)
     return -1, res
 
 

@@ -12,7 +12,9 @@ hinge axis. The relative Euler parameters ``r = conj(lam_p * c_p) * (lam_q * c_q
 (bilinear in xe) give the modes (rad)
 
 - rotation ``e1 = 2 atan2(r1, r0)``: the rotation of q relative to p about the hinge axis,
-  continuous for -2 pi < e1 < 2 pi (one full turn either way from the reference);
+  continuous for -2 pi < e1 < 2 pi (one full turn either way from the reference); where it
+  is constrained, :func:`.constraints.constraints` takes it modulo 2 pi on the branch
+  nearest its prescribed value, so a prescribed hinge may turn any number of times;
 - misalignments ``e2 = 2 r2``, ``e3 = 2 r3``: small rotations about the hinge frame's second
   and third axes (zero when the relative rotation is about the hinge axis).
 
@@ -25,6 +27,8 @@ from numba import njit
 
 from . import jets
 from .rotation import product
+
+HINGE_ROTATION = 0  # the hinge's rotation mode, an angle defined modulo 2 pi
 
 
 @njit(cache=True)
@@ -101,7 +105,7 @@ def hinge(xe, par, D, Dx, Dxx, Dxxx):
     angle = np.empty(jets.size(n))
     jets.atan2(r[1], r[0], angle)
     jets.scale(angle, 2.0, angle)
-    store(angle, 0, n, D, Dx, Dxx, Dxxx)
+    store(angle, HINGE_ROTATION, n, D, Dx, Dxx, Dxxx)
     for m in range(2):
         jets.scale(r[2 + m], 2.0, angle)
         store(angle, 1 + m, n, D, Dx, Dxx, Dxxx)

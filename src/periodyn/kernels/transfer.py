@@ -18,11 +18,11 @@ def newton(arr, x, b, tol, max_iter):
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     res = np.inf
     for it in range(max_iter + 1):
-        equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+        equations(arr, x, b, D, Dx, Dxx, Dxxx, Phi, J)
         res = np.max(np.abs(Phi - b))
         if res <= tol:
             return it, res, 0
-        if it == max_iter:
+        if it == max_iter or not np.isfinite(res):
             break
         if it == 0 and np.linalg.cond(J) > 1e13:
             return it, res, 2
@@ -34,7 +34,7 @@ def newton(arr, x, b, tol, max_iter):
 def input_jacobian(arr, x):
     """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
-    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+    equations(arr, x, arr.rhs0, D, Dx, Dxx, Dxxx, Phi, J)
     return np.linalg.solve(J, arr.rhs_q)
 
 
@@ -86,7 +86,7 @@ def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
     and the factors (LU, piv) of J."""
     n = x.shape[0]
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
-    equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
+    equations(arr, x, arr.rhs0, D, Dx, Dxx, Dxxx, Phi, J)
     LU, piv = factor(J)
     Fq = arr.rhs_q.copy()
     lu_solve(LU, piv, Fq)
