@@ -12,20 +12,13 @@ widths of ``dofs`` and ``modes``, see :mod:`.layout`).
 from collections import namedtuple
 
 import numpy as np
-from numba import literal_unroll, njit
+from numba import njit
 
 from .layout import (FAMILY_EULER_NORMALIZATION, FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS,
                      FAMILY_RIGID_LINK, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
 from . import planar_beam, planar_hinge, planar_truss, spatial_beam, spatial_joints, spatial_truss
 
 TWO_PI = 2.0 * np.pi
-
-#: (family id, its deformation kernel); unrolled at compile time into one test per family
-DEFORMATION = ((FAMILY_PLANAR_BEAM, planar_beam.deformation), (FAMILY_PLANAR_TRUSS, planar_truss.deformation),
-               (FAMILY_PLANAR_HINGE, planar_hinge.deformation), (FAMILY_SPATIAL_BEAM, spatial_beam.deformation),
-               (FAMILY_EULER_NORMALIZATION, spatial_joints.normalization),
-               (FAMILY_SPATIAL_TRUSS, spatial_truss.deformation), (FAMILY_SPATIAL_HINGE, spatial_joints.hinge),
-               (FAMILY_RIGID_LINK, spatial_joints.rigid_link))
 
 ModelArrays = namedtuple("ModelArrays", [
     "family",       # (ne,) int64 family id
@@ -64,11 +57,25 @@ def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
 
 @njit(cache=True)
 def deformation(family, xe, par, D, Dx, Dxx, Dxxx):
-    """The deformation kernel of the element family with id ``family`` (:data:`DEFORMATION`;
-    a family without modes, such as a rigid body, leaves D and its derivatives as they are)."""
-    for entry in literal_unroll(DEFORMATION):
-        if family == entry[0]:
-            entry[1](xe, par, D, Dx, Dxx, Dxxx)
+    """The deformation kernel of the element family with id ``family``, the one dispatch
+    over families (a family without modes, such as a rigid body, leaves D and its
+    derivatives as they are)."""
+    if family == FAMILY_PLANAR_BEAM:
+        planar_beam.deformation(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_PLANAR_TRUSS:
+        planar_truss.deformation(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_PLANAR_HINGE:
+        planar_hinge.deformation(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_SPATIAL_BEAM:
+        spatial_beam.deformation(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_EULER_NORMALIZATION:
+        spatial_joints.normalization(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_SPATIAL_TRUSS:
+        spatial_truss.deformation(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_SPATIAL_HINGE:
+        spatial_joints.hinge(xe, par, D, Dx, Dxx, Dxxx)
+    elif family == FAMILY_RIGID_LINK:
+        spatial_joints.rigid_link(xe, par, D, Dx, Dxx, Dxxx)
 
 
 @njit(cache=True)
