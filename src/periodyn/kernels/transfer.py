@@ -8,14 +8,17 @@ import numpy as np
 from numba import njit
 
 from .constraints import allocate_equations, along, contract2, equations
-from .lu import factor, lu_solve
+from .lu import factor, inverse_norm1, lu_factor, lu_solve, norm1
 
 @njit(cache=True)
 def newton(arr, x, b, tol, max_iter):
     """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
     inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
-    2 = singular Jacobian."""
+    2 = singular Jacobian (a zero pivot, or a 1-norm condition number above 1e13
+    estimated from the LU factors at the first iteration)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    piv = np.empty(x.shape[0], dtype=np.int64)
+    step = np.empty((x.shape[0], 1))
     res = np.inf
     for it in range(max_iter + 1):
         equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
@@ -24,9 +27,12 @@ def newton(arr, x, b, tol, max_iter):
             return it, res, 0
         if it == max_iter:
             break
-        if it == 0 and np.linalg.cond(J) > 1e13:
+        size = norm1(J) if it == 0 else 0.0
+        if lu_factor(J, piv) != 0 or (it == 0 and size * inverse_norm1(J, piv) > 1e13):
             return it, res, 2
-        x -= np.linalg.solve(J, Phi - b)
+        step[:, 0] = Phi - b
+        lu_solve(J, piv, step)
+        x -= step[:, 0]
     return max_iter, res, 1
 
 
@@ -35,7 +41,10 @@ def input_jacobian(arr, x):
     """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
-    return np.linalg.solve(J, arr.rhs_q)
+    LU, piv = factor(J)
+    Fq = arr.rhs_q.copy()
+    lu_solve(LU, piv, Fq)
+    return Fq
 
 
 @njit(cache=True)
