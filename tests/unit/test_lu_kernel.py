@@ -84,3 +84,17 @@ def test_condition_estimate_bounds_the_lapack_value(n, dense):
         estimate = norm1(B) * inverse_norm1(LU, piv)
         exact = np.linalg.cond(B, 1)
         assert exact / 3 <= estimate <= exact * (1 + 1e-12 + 10 * exact * np.finfo(float).eps)
+
+
+@pytest.mark.parametrize("n, dense", [(1, True), (30, True), (150, False)])
+def test_transposed_solve_of_many_columns_matches_lapack(n, dense):
+    from periodyn.kernels.lu import lu_solve_transposed_many
+
+    rng = np.random.default_rng(n + 5)
+    A = rng.standard_normal((n, n)) if dense else _sparse(n, rng)
+    B = rng.standard_normal((n, 9))
+    LU, piv = factor(A)
+    X = B.copy()
+    lu_solve_transposed_many(LU, piv, X)
+    ref = np.linalg.solve(A.T, B)
+    np.testing.assert_allclose(X, ref, rtol=0, atol=1e-12 * np.abs(ref).max())

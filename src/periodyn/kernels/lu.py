@@ -96,6 +96,33 @@ def lu_solve_transposed(LU, piv, b):
 
 
 @njit(cache=True)
+def lu_solve_transposed_many(LU, piv, B):
+    """Solve A^T X = B in place for B (n, k) from :func:`lu_factor` of A, row by row of the
+    factors (skipping their zeros): ``nnz(L + U) * k`` operations for a sparse factor."""
+    n, k = B.shape
+    for j in range(n):  # U^T Y = B: row j of U scatters into the rows below
+        d = LU[j, j]
+        for c in range(k):
+            B[j, c] /= d
+        for i in range(j + 1, n):
+            u = LU[j, i]
+            if u != 0.0:
+                for c in range(k):
+                    B[i, c] -= u * B[j, c]
+    for i in range(n - 1, -1, -1):  # L^T W = Y: row i of L scatters into the rows above
+        for j in range(i):
+            f = LU[i, j]
+            if f != 0.0:
+                for c in range(k):
+                    B[j, c] -= f * B[i, c]
+    for j in range(n - 1, -1, -1):  # X = P^T W
+        p = piv[j]
+        if p != j:
+            for c in range(k):
+                B[j, c], B[p, c] = B[p, c], B[j, c]
+
+
+@njit(cache=True)
 def norm1(A):
     """The 1-norm of A (n, n): its largest column sum of magnitudes."""
     return np.max(np.sum(np.abs(A), axis=0))

@@ -7,16 +7,18 @@ At unit speed, v, a, F_{q^d q} q' and F_{q^d q} q'' + F_{q^d q q} q' q' scale wi
 s, s^2 exactly (q'' = 0), so the constraint Jacobian is factored and the transfer
 function differentiated once per sample. Only the element arrays (cheap, one block per
 element) are evaluated at s = -S, 0, +S and split into powers; the reduced matrices
-then come from two products with F_q^d for all powers together:
-``F_d^T [M F_d, C0 F_d, C1 F_d, K0 F_d, K1 F_d + C0 F_dv, K2 F_d + C1 F_dv, r0, r1, r2]``
-and ``(M F_d)^T [F_dv, F_da]``.
+then come from one product for all powers,
+``F_d^T [M F_d, C0 F_d, C1 F_d + 2 M^T F_dv, K0 F_d, K1 F_d + C0 F_dv, K2 F_d + C1 F_dv + M^T F_da, r0, r1, r2]``,
+formed as ``E_d^T J^-T [...]`` (F_d = J^-1 E_d, E_d = the dynamic columns of b_q) by
+transposed solves with the sparse LU factors of J: ``nnz(L + U)`` per column, not the
+``n_x n_d`` of a dense product, so a sample costs about n_d^2 times a few elements.
 """
 
 import numpy as np
 from numba import njit, prange
 
 from .assembly import add_adjoint_curvature, allocate_element_arrays, element_arrays, nodal_product
-from .lu import lu_solve_transposed
+from .lu import lu_solve_transposed, lu_solve_transposed_many
 from .transfer import rates
 
 
@@ -59,29 +61,34 @@ def split_sample(arr, x, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     Ke = np.empty((3,) + Me.shape)
     r = np.empty((3, n))
     _element_powers(arr, x, v1, a1, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r)
-    zero = np.zeros(n)
-    B = np.empty((n, 6 * nd + 3))  # the right factors of F_d^T, block by block
+    Z = np.empty((n, 6 * nd + 3))  # the right factors of F_d^T, block by block
     tmp = np.empty((n, nd))
-    nodal_product(arr, arr.nodal_mass, Me, Fd, tmp)
-    B[:, :nd] = tmp
-    for c in range(2):
-        nodal_product(arr, zero, Ce[c], Fd, tmp)
-        B[:, (1 + c) * nd:(2 + c) * nd] = tmp
-    for k in range(3):
-        nodal_product(arr, zero, Ke[k], Fd, tmp)
-        B[:, (3 + k) * nd:(4 + k) * nd] = tmp
-    for c in range(2):
-        nodal_product(arr, zero, Ce[c], Fdv, tmp)
-        B[:, (4 + c) * nd:(5 + c) * nd] += tmp
-    B[:, 6 * nd:] = r.T
-    P = Fd.T @ B
-    Q = np.ascontiguousarray(B[:, :nd]).T @ np.hstack((Fdv, Fda))
+    zero = np.zeros(n)
+    MeT = np.ascontiguousarray(Me.transpose(0, 2, 1))
+    # (diagonal, element blocks, factor, block of Z, weight): M^T terms from (M F_d)^T F_dv, (M F_d)^T F_da
+    blocks = ((arr.nodal_mass, Me, Fd, 0, 1.0), (zero, Ce[0], Fd, 1, 1.0), (zero, Ce[1], Fd, 2, 1.0),
+              (arr.nodal_mass, MeT, Fdv, 2, 2.0), (zero, Ke[0], Fd, 3, 1.0), (zero, Ke[1], Fd, 4, 1.0),
+              (zero, Ce[0], Fdv, 4, 1.0), (zero, Ke[2], Fd, 5, 1.0), (zero, Ce[1], Fdv, 5, 1.0),
+              (arr.nodal_mass, MeT, Fda, 5, 1.0))
+    Z[:] = 0.0
+    for i in range(len(blocks)):
+        diag, Ee, F, b, weight = blocks[i]
+        nodal_product(arr, diag, Ee, F, tmp)
+        Z[:, b * nd:(b + 1) * nd] += weight * tmp
+    Z[:, 6 * nd:] = r.T
+    lu_solve_transposed_many(LU, piv, Z)  # F_d^T Z = E_d^T J^-T Z, E_d = rhs_q[:, n_r:]
+    P = np.zeros((nd, 6 * nd + 3))
+    E = arr.rhs_q
+    for row in range(n):
+        for c in range(nd):
+            e = E[row, arr.n_input + c]
+            if e != 0.0:
+                P[c] += e * Z[row]
     Mb[:] = P[:, :nd]
-    Cb[0] = P[:, nd:2 * nd]
-    Cb[1] = P[:, 2 * nd:3 * nd] + 2.0 * Q[:, :nd]
-    Kb[0] = P[:, 3 * nd:4 * nd]
-    Kb[1] = P[:, 4 * nd:5 * nd]
-    Kb[2] = P[:, 5 * nd:6 * nd] + Q[:, nd:]
+    for c in range(2):
+        Cb[c] = P[:, (1 + c) * nd:(2 + c) * nd]
+    for k in range(3):
+        Kb[k] = P[:, (3 + k) * nd:(4 + k) * nd]
     fd[:] = P[:, 6 * nd:].T
 
 
