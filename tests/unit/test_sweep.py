@@ -151,11 +151,14 @@ def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
 
     monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": -1.0})
     monkeypatch.setattr(backends, "_STARTED", [True])
-    assert backends._worth_starting(0.01, 10, 2)   # 0.05 s of their work against the -1 s prior
+    assert backends._worth_starting(0.01, 10, 2)   # 0.1 s left, up at once (the -1 s prior)
     backends.START_COST["later"] = 0.2
-    assert not backends._worth_starting(0.01, 10, 2)  # 0.05 s against 0.2 s + half a chunk
-    assert backends._worth_starting(0.01, 100, 2)      # 0.5 s
-    assert backends._worth_starting(0.01, 40, 4) and not backends._worth_starting(0.01, 40, 2)
+    assert not backends._worth_starting(0.01, 10, 2)  # 0.1 s left: done before a worker is up
+    assert backends._worth_starting(0.01, 100, 2)      # 1 s left: 0.4 s saved
+    # 0.08 s left once they are up: 0.04 s saved with one more process, 0.06 s with three,
+    # against a 0.05 s wait for the last chunk
+    backends.START_COST["later"] = 0.22
+    assert backends._worth_starting(0.1, 3, 4) and not backends._worth_starting(0.1, 3, 2)
     backends._record_start(SimpleNamespace(ready_after=0.3, created=0.0), 0.05)
     assert backends.START_COST["later"] == pytest.approx(0.35)  # up after 0.3 s, shut down in 0.05 s
     never_up = SimpleNamespace(ready_after=None, created=time.perf_counter() - 1.0)

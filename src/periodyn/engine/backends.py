@@ -195,12 +195,13 @@ _STARTED: list[bool] = []  # a pool was started in this process
 
 def _worth_starting(chunk_seconds: float, chunks_left: int, workers: int) -> bool:
     """Whether ``workers - 1`` more processes would finish the chunks left sooner than this
-    process alone: the work they take, ``left (1 - 1/workers)`` once they are up, must
-    exceed their start (:data:`START_COST`) and the expected wait for the last chunk sent
-    to a worker (half a chunk)."""
+    process alone. This process keeps solving while they start (:data:`START_COST`); the
+    work left then is shared by ``workers`` processes, which saves
+    ``(left - start) (1 - 1/workers)``; that must exceed the expected wait for the last
+    chunk sent to a worker (half a chunk)."""
     left = chunk_seconds * chunks_left
-    cost = START_COST["later" if _STARTED else "first"]
-    return left * (1.0 - 1.0 / workers) > cost + 0.5 * chunk_seconds
+    start = START_COST["later" if _STARTED else "first"]
+    return (left - start) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
 
 
 def _record_start(pool: "_Pool", closed: float) -> None:
