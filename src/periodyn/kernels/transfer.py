@@ -15,10 +15,11 @@ def newton(arr, x, b, tol, max_iter):
     """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
     inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
     2 = singular Jacobian (a zero pivot, or a 1-norm condition number above 1e13
-    estimated from the LU factors at the first iteration)."""
+    estimated from the sparse LU factors at the first iteration, :mod:`.lu`). The steps are
+    LAPACK solves, so the converged configurations are those of the dense solver bit for bit
+    (warm-started callers compare them across calls at round-off)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     piv = np.empty(x.shape[0], dtype=np.int64)
-    step = np.empty((x.shape[0], 1))
     res = np.inf
     for it in range(max_iter + 1):
         equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
@@ -27,12 +28,11 @@ def newton(arr, x, b, tol, max_iter):
             return it, res, 0
         if it == max_iter:
             break
-        size = norm1(J) if it == 0 else 0.0
-        if lu_factor(J, piv) != 0 or (it == 0 and size * inverse_norm1(J, piv) > 1e13):
-            return it, res, 2
-        step[:, 0] = Phi - b
-        lu_solve(J, piv, step)
-        x -= step[:, 0]
+        if it == 0:
+            LU = J.copy()
+            if lu_factor(LU, piv) != 0 or norm1(J) * inverse_norm1(LU, piv) > 1e13:
+                return it, res, 2
+        x -= np.linalg.solve(J, Phi - b)
     return max_iter, res, 1
 
 
@@ -41,10 +41,7 @@ def input_jacobian(arr, x):
     """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
     equations(arr, x, D, Dx, Dxx, Dxxx, Phi, J)
-    LU, piv = factor(J)
-    Fq = arr.rhs_q.copy()
-    lu_solve(LU, piv, Fq)
-    return Fq
+    return np.linalg.solve(J, arr.rhs_q)
 
 
 @njit(cache=True)
