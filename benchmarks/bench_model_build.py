@@ -1,6 +1,6 @@
 """Model-building time of the slider-crank against the number of rod elements.
 
-For 2, 4, 8, 16, 32 rod elements (or ``--elements``): compiling the element model and building its
+For 2, 4, 8, 16, 32, 64 rod elements (or ``--elements``): compiling the element model and building its
 omega-split linearized model (kinematics at every sample, per-sample reduced M, C, K,
 f^d, eq. 5-10) on one thread, best of ``--rounds``, and the exponent of a power law
 t ~ elements^k fitted to the build times (least squares in log-log). To compare two
@@ -22,7 +22,7 @@ import numpy as np  # noqa: E402
 from periodyn.examples.slider_crank import slider_crank_model  # noqa: E402
 from periodyn.linearize import omega_split  # noqa: E402
 
-ELEMENTS = (2, 4, 8, 16, 32)
+ELEMENTS = (2, 4, 8, 16, 32, 64)
 
 
 def build_time(elements: int, samples: int, rounds: int) -> tuple[float, int]:

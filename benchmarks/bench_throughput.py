@@ -55,18 +55,21 @@ def build(case: str, speeds: int):
 def child(cases: list[str], speeds: dict[str, int]) -> None:
     """Time every case in this process; one JSON line per sweep on stdout."""
     import periodyn
-    from periodyn.sweep import ExecutionOptions
 
     try:  # warm-ups start the worker pool (and its fork server) even for their few speeds
-        warm = ExecutionOptions(chunk_size=1, eager_workers=True)
-    except TypeError:  # a tree whose workers always start
-        warm = ExecutionOptions(chunk_size=1)
+        from periodyn.sweep import ExecutionOptions
+
+        try:
+            warm = {"execution": ExecutionOptions(chunk_size=1, eager_workers=True)}
+        except TypeError:  # a tree whose workers always start
+            warm = {"execution": ExecutionOptions(chunk_size=1)}
+    except ImportError:  # a tree before the option objects (its workers always start)
+        warm = {"chunk_size": 1}
     for case in cases:
         model, omega = build(case, speeds[case])
         for stability in (True, False):
             for workers in (1, 2):
-                periodyn.sweep(model, omega[:8], 12, stability=stability, workers=workers, progress=False,
-                               execution=warm)
+                periodyn.sweep(model, omega[:8], 12, stability=stability, workers=workers, progress=False, **warm)
                 t0 = time.perf_counter()
                 ds = periodyn.sweep(model, omega, 12, stability=stability, workers=workers, progress=False)
                 seconds = time.perf_counter() - t0

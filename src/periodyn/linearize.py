@@ -8,8 +8,8 @@ Sign convention of the result (as :class:`periodyn.RheoLinear`):
 
 With constant-speed inputs, velocities scale with omega and accelerations with omega^2,
 so C = C0 + w C1, K = K0 + w K1 + w^2 K2, f = f0 + w f1 + w^2 f2 exactly; the split
-is recovered exactly from the linearizations at input speeds s = -S, 0, +S (kinematics
-is solved once), and checked against direct linearization in the tests.
+is computed once per sample (:mod:`.kernels.split`), and checked against direct
+linearization in the tests.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .kernels import assembly, constraints
+from .kernels import assembly, constraints, split
 from .kinematics import configuration, motion, nominal_configurations
 from .system import OmegaSplitModel, RheoLinear
 
@@ -131,37 +131,45 @@ def rheo_linear(model, omega: float, samples: int) -> RheoLinear:
                                    output_names=model.output_names if G.shape[1] else None)
 
 
-def _recover_powers(a, speed):
-    """Exact polynomial coefficients [c0, c1, c2] of a(s) = c0 + s c1 + s^2 c2 from its
-    values at s = -speed, 0, +speed (leading axis)."""
-    neg, zero, pos = a
-    return [zero, 0.5 * (pos - neg) / speed, (0.5 * (pos + neg) - zero) / speed**2]
+def _split(model, X: np.ndarray, speed: float) -> tuple[np.ndarray, ...]:
+    """:func:`kernels.split.split_samples` at the configurations X (p, n_x): M (p,nd,nd),
+    C [w^0, w^1], K [w^0, w^1, w^2] (each (p,nd,nd)), f^d [w^0, w^1, w^2] (each (p,nd)),
+    and F_q^d, F_{q^d q} q', F_{q^d q q} q' q' at unit speed (p, n_x, nd)."""
+    X = np.ascontiguousarray(X)
+    p, n = X.shape
+    nd = model.n_dynamic
+    qdot1 = np.zeros(model.n_inputs + nd)
+    qdot1[:model.n_inputs] = model.input_rates
+    M, C, K, fd = np.empty((p, nd, nd)), np.empty((p, 2, nd, nd)), np.empty((p, 3, nd, nd)), np.empty((p, 3, nd))
+    F = tuple(np.empty((p, n, nd)) for _ in range(3))
+    split.split_samples(model.arrays, X, qdot1, float(speed), M, C, K, fd, *F)
+    return (M, list(np.moveaxis(C, 1, 0)), list(np.moveaxis(K, 1, 0)), list(np.moveaxis(fd, 1, 0))) + F
 
 
 def omega_split(model, samples: int, *, name: str | None = None, rebuild=None, metadata=None) -> OmegaSplitModel:
     """Linearized equations as omega-polynomials, sampled at ``samples`` crank angles;
-    kinematics solved once. ``rebuild(p)`` and ``metadata`` are passed on to the
-    OmegaSplitModel.
+    kinematics solved and the transfer function differentiated once per sample. ``rebuild(p)``
+    and ``metadata`` are passed on to the OmegaSplitModel.
 
-    The powers are recovered from linearizations at input speeds -S, 0, +S with S the
-    speed at which the omega^2 terms of the stiffness match the omega^0 terms (found
-    from a first pass at S = 1 rad/s on at most 8 samples), which keeps the rounding
-    error of the recovery at machine precision relative to the matrices at operating
-    speeds. C is linear in omega: its recovered omega^2 term is rounding and dropped."""
+    The element arrays are split into powers from input speeds -S, 0, +S
+    (:mod:`.kernels.split`), with S the speed at which the omega^2 terms of the reduced
+    stiffness match the omega^0 terms (found from a first pass at S = 1 rad/s on at most
+    8 samples), which keeps the rounding error of the split at machine precision relative
+    to the matrices at operating speeds."""
     X = nominal_configurations(model, samples)
-    K2 = _recover_powers(_run(model, X[:: max(1, samples // 8)], [-1.0, 0.0, 1.0])[2], 1.0)
+    K2 = _split(model, X[:: max(1, samples // 8)], 1.0)[2]
     big, small = np.abs(K2[0]).max(), np.abs(K2[2]).max()
     speed = float(np.clip(np.sqrt(big / small), 1e-3, 1e6)) if small > 0 and big > 0 else 1.0
-    Mb, Cb, Kb, fd, Fd, Fdv, Fda = _run(model, X, [-speed, 0.0, speed])
-    Mi, Ci, Ki, fi = _add_independent(model, Fd[2], Fdv[2] / speed, Fda[2] / speed**2, None)
-    C = [c + ci for c, ci in zip(_recover_powers(Cb, speed)[:2], Ci)]
-    K = [k + ki for k, ki in zip(_recover_powers(Kb, speed), Ki)]
-    f = [-c for c in _recover_powers(fd, speed)]
+    Mb, Cb, Kb, fd, Fd, Fdv, Fda = _split(model, X, speed)
+    Mi, Ci, Ki, fi = _add_independent(model, Fd, Fdv, Fda, None)
+    C = [c + ci for c, ci in zip(Cb, Ci)]
+    K = [k + ki for k, ki in zip(Kb, Ki)]
+    f = [-c for c in fd]
     f[0] = f[0] + fi
-    G = output_maps(model, X, Fd[1])
+    G = output_maps(model, X, Fd)
     has_out = G.shape[1] > 0
     return OmegaSplitModel.from_samples(
-        Mb[1] + Mi, C, K, f, coordinate_names=model.dynamic_names,
+        Mb + Mi, C, K, f, coordinate_names=model.dynamic_names,
         output_maps=G if has_out else None, output_names=model.output_names if has_out else None,
         name=name or model.name, rebuild=rebuild, metadata=metadata)
 

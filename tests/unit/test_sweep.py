@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import time
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -138,6 +141,32 @@ def test_parallel_processes_identical_to_serial():
                      execution=ExecutionOptions(chunk_size=5, eager_workers=True), progress=False)
     xr.testing.assert_identical(data_only(parallel), data_only(serial))
     assert parallel.attrs["backend"] == "processes" and parallel.attrs["workers"] == 2
+
+
+def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
+    """Workers start only when they would take more work than their start costs; a pool after
+    the first replaces the prior START_COST["later"] by its measured start (a positive time,
+    not the prior), which the next decision uses."""
+    from periodyn.engine import backends
+
+    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": -1.0})
+    monkeypatch.setattr(backends, "_STARTED", [True])
+    assert backends._worth_starting(0.01, 10, 2)   # 0.1 s left, up at once (the -1 s prior)
+    backends.START_COST["later"] = 0.2
+    assert not backends._worth_starting(0.01, 10, 2)  # 0.1 s left: done before a worker is up
+    assert backends._worth_starting(0.01, 100, 2)      # 1 s left: 0.4 s saved
+    # 0.08 s left once they are up: 0.04 s saved with one more process, 0.06 s with three,
+    # against a 0.05 s wait for the last chunk
+    backends.START_COST["later"] = 0.22
+    assert backends._worth_starting(0.1, 3, 4) and not backends._worth_starting(0.1, 3, 2)
+    backends._record_start(SimpleNamespace(ready_after=0.3, created=0.0), 0.05)
+    assert backends.START_COST["later"] == pytest.approx(0.35)  # up after 0.3 s, shut down in 0.05 s
+    never_up = SimpleNamespace(ready_after=None, created=time.perf_counter() - 1.0)
+    backends._record_start(never_up, 0.0)  # closed before a worker was up: at least 1 s
+    assert backends.START_COST["later"] >= 1.0
+    sweep(model, OMEGA, M, workers=2, execution=ExecutionOptions(chunk_size=4, eager_workers=True), progress=False)
+    measured = backends.START_COST["later"]  # a measurement, or the 1 s lower bound if no worker came up
+    assert np.isfinite(measured) and measured > 0.0
 
 
 def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):

@@ -98,3 +98,30 @@ def test_split_output_maps_give_the_linearized_midpoint_deflection():
         theta = 2 * np.pi * j / 16
         y = midpoint_deflection(configuration(model, theta, qd)[idx], 0.3, np.empty(6))
         assert y == pytest.approx(split.output_maps[j, 0] @ qd, rel=1e-5)
+
+
+def test_split_kernel_equals_reduced_sample_at_each_speed():
+    """kernels.split (transfer function differentiated once, element arrays split into powers,
+    one product for all powers) against reduced_sample evaluated at each speed, at nominal
+    and deformed configurations of a slider-crank with 6 rod elements."""
+    from periodyn.kernels.assembly import reduced_sample
+    from periodyn.kernels.split import split_sample
+    from periodyn.kinematics import configuration
+
+    model = slider_crank_model(kelvin_voigt=4.8e-5, rod_elements=6)
+    arr, n, nd = model.arrays, model.n_coordinates, model.n_dynamic
+    qdot1 = np.concatenate([model.input_rates, np.zeros(nd)])
+    rng = np.random.default_rng(7)
+    for theta, qd in ((0.4, np.zeros(nd)), (2.1, 1e-3 * rng.standard_normal(nd))):
+        x = configuration(model, theta, qd)
+        M, C, K, f = np.empty((nd, nd)), np.empty((2, nd, nd)), np.empty((3, nd, nd)), np.empty((3, nd))
+        F1 = [np.empty((n, nd)) for _ in range(3)]
+        split_sample(arr, x, qdot1, 200.0, M, C, K, f, *F1)
+        for s in (-90.0, 37.0, 250.0):
+            Mb, Cb, Kb, fd = np.empty((nd, nd)), np.empty((nd, nd)), np.empty((nd, nd)), np.empty(nd)
+            F = [np.empty((n, nd)) for _ in range(3)]
+            reduced_sample(arr, x, s * qdot1, np.zeros(nd + model.n_inputs), Mb, Cb, Kb, fd, *F)
+            for got, want in ((M, Mb), (C[0] + s * C[1], Cb), (K[0] + s * K[1] + s**2 * K[2], Kb),
+                              (f[0] + s * f[1] + s**2 * f[2], fd), (F1[0], F[0]), (s * F1[1], F[1]),
+                              (s**2 * F1[2], F[2])):
+                np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())

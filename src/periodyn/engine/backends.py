@@ -107,10 +107,15 @@ class _Pool:
         self.lock = threading.Lock()
         self.pool: ProcessPoolExecutor | None = None
         self.ready = None  # the future of _ready
+        self.created = time.perf_counter()
+        self.ready_after: float | None = None  # s from creation until a worker was up
         self.error: BaseException | None = None
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
+
+    def _up(self, _future) -> None:
+        self.ready_after = time.perf_counter() - self.created
 
     def _left(self) -> bool:
         with self.lock:
@@ -122,6 +127,7 @@ class _Pool:
                 self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=_process_context(),
                                                 initializer=_init_worker, initargs=(payload,))
                 self.ready = self.pool.submit(_ready)
+                self.ready.add_done_callback(self._up)
             while self._left() and wait([self.ready], timeout=_POLL).not_done:
                 pass
             while self._left():
@@ -179,32 +185,55 @@ class _Pool:
         self.pool.shutdown(wait=started, cancel_futures=True)
 
 
-#: Seconds to start local workers, about: the first pool of a process starts the fork
-#: server, which imports periodyn and loads the compiled kernels; later pools fork from it
+#: Seconds that starting local workers costs this process: the wait until the first worker
+#: is up plus the pool's shutdown. The first pool of a process starts the fork server, which
+#: imports periodyn and loads the compiled kernels; later pools fork from it. The values are
+#: priors until a pool of this process has been timed, then the latest measurement.
 START_COST = {"first": 2.0, "later": 0.2}
 _STARTED: list[bool] = []  # a pool was started in this process
 
 
+def _worth_starting(chunk_seconds: float, chunks_left: int, workers: int) -> bool:
+    """Whether ``workers - 1`` more processes would finish the chunks left sooner than this
+    process alone. This process keeps solving while they start (:data:`START_COST`); the
+    work left then is shared by ``workers`` processes, which saves
+    ``(left - start) (1 - 1/workers)``; that must exceed the expected wait for the last
+    chunk sent to a worker (half a chunk)."""
+    left = chunk_seconds * chunks_left
+    start = START_COST["later" if _STARTED else "first"]
+    return (left - start) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
+
+
+def _record_start(pool: "_Pool", closed: float) -> None:
+    """Store the measured start (until a worker was up, plus ``closed`` s of shutdown) of a
+    pool after the first as ``START_COST["later"]``."""
+    if _STARTED and pool.ready_after is not None:
+        START_COST["later"] = pool.ready_after + closed
+    elif _STARTED:  # closed before a worker was up: its start took at least that long
+        START_COST["later"] = max(START_COST["later"], time.perf_counter() - pool.created)
+    _STARTED.append(True)
+
+
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     """``workers`` processes, this one included. This process (one thread, as the serial
-    path) solves the last two chunks first and times the second; when the chunks left
-    would take it less than starting the workers (:data:`START_COST`), it solves them alone, else
-    ``workers - 1`` local worker processes take chunks from the front while it solves
-    chunks from the back, so a short sweep never waits for the workers to start
-    (``execution.eager_workers``: start them whatever the estimate)."""
+    path) solves the last two chunks first and times the second; unless ``workers - 1``
+    more processes would finish the rest sooner, counting their measured start
+    (:func:`_worth_starting`), it solves them alone, else the local worker processes take
+    chunks from the front while it solves chunks from the back, so a short sweep never
+    waits for the workers to start (``execution.eager_workers``: start them whatever the
+    estimate)."""
     with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
         yield job.solve(chunks[-1])
-        estimate = 0.0
+        seconds = 0.0
         if len(chunks) > 1:
             start = time.perf_counter()
             yield job.solve(chunks[-2])
-            estimate = (time.perf_counter() - start) * (len(chunks) - 2)
+            seconds = time.perf_counter() - start
     if len(chunks) <= 2:
         return
-    if not execution.eager_workers and estimate < START_COST["later" if _STARTED else "first"]:
+    if not execution.eager_workers and not _worth_starting(seconds, len(chunks) - 2, workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
-    _STARTED.append(True)
     pool = _Pool(job, chunks[:-2], workers - 1)
     try:
         with one_thread():
@@ -218,7 +247,9 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
         for future in pool.remaining():
             yield future.result()
     finally:
+        closing = time.perf_counter()
         pool.close()
+        _record_start(pool, time.perf_counter() - closing)
 
 
 def _dask_client(scheduler, workers: int):

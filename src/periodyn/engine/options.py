@@ -33,8 +33,9 @@ class ExecutionOptions:
     chunk_size: points per chunk (checkpoint granularity and load balance), or None for
         up to 64 with 8+ chunks per worker.
     eager_workers: start the local worker processes whatever the sweep's length; by
-        default they start only when the chunks left after the first (solved in the
-        calling process, timed) would take longer than starting them.
+        default they start only when they would finish the chunks left after the first two
+        (solved in the calling process, the second timed) sooner than the calling process
+        alone, counting their start as measured on this process's previous pool.
     """
 
     scheduler: Any = None

@@ -8,14 +8,18 @@ import numpy as np
 from numba import njit
 
 from .constraints import allocate_equations, along, contract2, equations
-from .lu import factor, lu_solve
+from .lu import factor, inverse_norm1, lu_factor, lu_solve, norm1
 
 @njit(cache=True)
 def newton(arr, x, b, tol, max_iter):
     """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
     inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
-    2 = singular Jacobian."""
+    2 = singular Jacobian (a zero pivot, or a 1-norm condition number above 1e13
+    estimated from the sparse LU factors at the first iteration, :mod:`.lu`). The steps are
+    LAPACK solves, so the converged configurations are those of the dense solver bit for bit
+    (warm-started callers compare them across calls at round-off)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
+    piv = np.empty(x.shape[0], dtype=np.int64)
     res = np.inf
     for it in range(max_iter + 1):
         equations(arr, x, b, D, Dx, Dxx, Dxxx, Phi, J)
@@ -24,8 +28,10 @@ def newton(arr, x, b, tol, max_iter):
             return it, res, 0
         if it == max_iter or not np.isfinite(res):
             break
-        if it == 0 and np.linalg.cond(J) > 1e13:
-            return it, res, 2
+        if it == 0:
+            LU = J.copy()
+            if lu_factor(LU, piv) != 0 or norm1(J) * inverse_norm1(LU, piv) > 1e13:
+                return it, res, 2
         x -= np.linalg.solve(J, Phi - b)
     return max_iter, res, 1
 

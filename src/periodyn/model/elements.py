@@ -5,6 +5,7 @@ and its material data. Each family maps to one kernel module in
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,13 +43,17 @@ def mode_statuses(name: str, modes, mode_names: tuple[str, ...]) -> tuple[str, .
     return modes
 
 
+@functools.lru_cache(maxsize=None)
 def _gauss_integrals(shape_functions, order: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """int_0^1 N_i N_j ds and int_0^1 N_i ds for polynomial shape functions (Gauss-Legendre)."""
+    """int_0^1 N_i N_j ds and int_0^1 N_i ds for polynomial shape functions (Gauss-Legendre),
+    computed once per family of shape functions (read-only arrays)."""
     s, w = np.polynomial.legendre.leggauss(order)
     s = 0.5 * (s + 1.0)
     w = 0.5 * w
     N = np.array([f(s) for f in shape_functions])  # (k, order)
-    return (N * w) @ N.T, N @ w
+    mass, weights = (N * w) @ N.T, N @ w
+    mass.flags.writeable = weights.flags.writeable = False
+    return mass, weights
 
 
 HERMITE = (lambda s: 1 - 3 * s**2 + 2 * s**3, lambda s: 3 * s**2 - 2 * s**3,

@@ -218,7 +218,12 @@ class Model(SpatialBuilder, OutputBuilder):
                 + [c for o in self.orientations for c in orientation_coordinates(o)])
 
     def _check_coordinate(self, name, what):
-        if name not in set(self._coordinate_names()):
+        """Refuse a name that is no nodal coordinate (without listing them all: a model
+        with many elements checks each element's coordinates)."""
+        node, _, axis = name.rpartition(".") if isinstance(name, str) else ("", "", "")
+        known = (name in self.angles or (node in self.points and axis in self._axes)
+                 or (node in self.orientations and name in orientation_coordinates(node)))
+        if not known:
             raise InputError(f"{what}: unknown nodal coordinate '{name}'; use '<point>.x', '<point>.y', "
                              "'<point>.z', an angle name or '<orientation>.l0'..'.l3' of an existing node")
 
