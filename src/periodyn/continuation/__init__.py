@@ -2,16 +2,18 @@
 
 ``palc`` (predictor-corrector, step control), ``events`` (one classifier of folds, branch
 points, period doublings and Neimark-Sacker points, one root refinement), ``branch`` (the columnar
-``Branch`` and its netCDF file), ``driver`` (``continuation`` for IHB and shooting with
-``ContinuationOptions``), ``switching`` (onto the period-doubled branch, or the crossing branch at a branch
-point), ``truncation`` (each special point's orbit defect, and the point re-solved with more
+``Branch`` and its netCDF file), ``driver`` (``trace_branch`` for IHB and shooting with
+``ContinuationOptions``), ``entry`` (``continuation``: that branch with its special points
+checked as asked), ``switching`` (onto the period-doubled branch, or the crossing branch at a
+branch point), ``truncation`` (each special point's orbit defect, and the point re-solved with more
 harmonics where the orbit is unresolved), ``confirm`` (the truncation check, then the monodromy
 of a direct integration).
 """
 
 from .branch import Branch, SpecialPoint, load_branch
 from .confirm import confirm_special_points
-from .driver import ContinuationOptions, continuation
+from .driver import ContinuationOptions
+from .entry import continuation
 from .switching import switch_branch, switch_period_doubling
 from .truncation import check_truncation, orbit_defect
 

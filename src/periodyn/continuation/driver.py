@@ -22,11 +22,10 @@ from ..nonlinear.newton import lu_factor, newton
 from ..nonlinear.implicit import STEPS, ImplicitProblem
 from ..nonlinear.shooting import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
-from .confirm import confirm_special_points
 from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
 from .palc import Arc, first_point, trace
 
-__all__ = ["ContinuationOptions", "continuation"]
+__all__ = ["ContinuationOptions", "trace_branch"]
 
 _AT_START = 1e-8  # |test function| at the start point below which the start is the special point
 _FTOL = {"fold": 1e-10, "crossing": 1e-9}  # |test function| at which a refinement stops (dp/ds; |mu| - 1 or |mu - 1|)
@@ -174,7 +173,7 @@ def _implicit(system, opts: ContinuationOptions) -> bool:
     return hasattr(getattr(system, "equations", None), "configurations")
 
 
-def continuation(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
+def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
                  initial=None, tangent=None, options: ContinuationOptions | None = None, progress=None,
                  **option_values) -> Branch:
     """Response curve of a ``periodyn.DAE`` or an element model (its non-linear equations,
@@ -247,7 +246,7 @@ def continuation(system, omega, harmonics: int = 5, method: str = "ihb", paramet
                                                            if f.name not in ("tol", "samples")})
     branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
                                    np.array([pt.X for pt in pts]))
-    return confirm_special_points(branch, integrate=opts.confirm is True) if opts.confirm else branch
+    return branch
 
 
 def _known(values: dict) -> dict:

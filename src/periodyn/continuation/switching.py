@@ -30,7 +30,7 @@ from ..errors import InputError
 from ..spectra import fourier_coefficients, synthesize
 from ..timedomain import integrate, monodromy_matrix
 from .branch import Branch, SpecialPoint
-from .driver import continuation
+from .entry import continuation
 
 __all__ = ["switch_branch", "switch_period_doubling"]
 

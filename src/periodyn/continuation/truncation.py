@@ -28,6 +28,7 @@ import numpy as np
 from ..errors import ConvergenceError, InputError
 from ..nonlinear.ihb import IHBProblem, default_samples
 from .branch import Branch, SpecialPoint
+from .driver import trace_branch
 from .events import KINDS
 
 __all__ = ["orbit_defect", "check_truncation"]
@@ -124,15 +125,13 @@ def _local_branches(system, sp: SpecialPoint, branch: Branch, window: tuple, H2:
     """The H2 branch from the point's orbit (else from a bracketing one) to both ends of the
     window; the residual tolerance is 10x the branch's (crossings are located, not orbits
     to the last digit). Raises the last ConvergenceError when no start converges."""
-    from .driver import continuation  # the driver imports the checks
-
     o = branch.options
     starts = [(sp.solution, sp.omega)] if sp.solution is not None else []
     starts += [(branch.solutions[k], branch.omega[k]) for k in (sp.index, sp.index + 1)]
     error = None
     for orbit, omega in starts:
         try:
-            return [continuation(system, (omega, stop), harmonics=H2, initial=orbit, tol=10 * o.get("tol", 1e-8),
+            return [trace_branch(system, (omega, stop), harmonics=H2, initial=orbit, tol=10 * o.get("tol", 1e-8),
                                  stability=o.get("stability", "magnus"), ds_max=min(o.get("ds_max", 0.2), 0.05),
                                  max_points=40) for stop in window]
         except ConvergenceError as exc:
