@@ -142,11 +142,13 @@ def _generator4(A, step, h, G, w):
     step ``step`` from the two Gauss-point matrices A[2 step], A[2 step + 1]; w: scratch
     (>= 2, d, d)."""
     A1, A2 = A[2 * step], A[2 * step + 1]
-    _commutator(A2, A1, w[0], w[1])
+    P, Q = w[0], w[1]
+    _matmul(A2, A1, P)
+    _matmul(A1, A2, Q)
     c = _MAGNUS_C * h * h
     for i in range(A1.shape[0]):
         for j in range(A1.shape[0]):
-            G[i, j] = 0.5 * h * (A1[i, j] + A2[i, j]) + c * w[0, i, j]
+            G[i, j] = 0.5 * h * (A1[i, j] + A2[i, j]) + c * (P[i, j] - Q[i, j])
 
 
 @njit(cache=True)
