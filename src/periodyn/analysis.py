@@ -324,11 +324,11 @@ def check_speeds(omegas) -> np.ndarray:
 
 def warm_up() -> None:
     """Load the compiled kernels of the speed solver (banded HB, Hill cluster selection,
-    Magnus monodromy, output extrema) by solving a one-coordinate model, so that worker
-    processes forked afterwards start with them (periodyn.sweep's fork server)."""
+    Magnus monodromy and ladder, output extrema) by solving a one-coordinate model, so that
+    worker processes forked afterwards start with them (periodyn.sweep's fork server)."""
     p = 8
     theta = 2 * np.pi * np.arange(p) / p
     model = OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [np.full((p, 1, 1), 0.1)],
                                          [(1.0 + 0.2 * np.cos(theta))[:, None, None]], [np.cos(theta)[:, None]])
-    for method in ("dense", "magnus"):
+    for method in ("dense", "magnus", "auto"):
         SpeedSolver(model, 2, method=method).solve_many([0.7])

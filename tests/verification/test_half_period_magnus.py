@@ -43,7 +43,7 @@ def test_half_period_ladder_equals_full_period_and_monodromy(speed):
     assert half.span == np.pi
     full = MagnusLadder(*_spectra(diagonal_odd=1e-30))  # below the detection threshold: no symmetry
     assert full.signs is not None  # a negligible entry does not break the symmetry ...
-    full.signs, full.span, full._terms = None, 2 * np.pi, {}  # ... so force the full period
+    full.signs, full.span = None, 2 * np.pi  # ... so force the full period
     w = np.array([speed])
     a, b = (ladder.solve(w, np.array([np.inf])) for ladder in (half, full))
     assert a.accepted[0] and b.accepted[0]

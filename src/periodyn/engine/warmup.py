@@ -13,7 +13,7 @@ from typing import Callable, TextIO
 __all__ = ["kernels_cached", "warm_up", "STEPS", "COMPILE_NOTE"]
 
 #: kernel modules the speed solver calls at every sweep point
-_SOLVER_KERNELS = ("banded", "floquet", "outputs")
+_SOLVER_KERNELS = ("banded", "floquet", "magnus_ladder", "outputs")
 COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 20-200 s; "
                 "`periodyn warmup` does it ahead)")
 
@@ -66,7 +66,7 @@ def _dae() -> None:
 
 #: (what, function) in the order run by :func:`warm_up`
 STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
-    ("speed solver (harmonic balance, Hill, Magnus monodromy)", _speed_solver),
+    ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", _speed_solver),
     ("element models (kinematics, planar beam/truss/hinge linearization)", _element_models),
     ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", _spatial_models),
     ("non-linear element models (implicit shooting)", _nonlinear_element_models),

@@ -241,19 +241,25 @@ def magnus_monodromies(terms, omegas, out, points=2):
     angles of equal steps over one period (periodyn.magnus.gauss_angles); omegas: (S,)
     rad/s; out: (S, d, d), filled with the transition matrices over T = 2 pi / omega;
     points: 2 (4th-order Magnus) or 3 (6th order)."""
-    n_terms, n_points, d = terms.shape[0], terms.shape[1], terms.shape[2]
-    steps = n_points // points
+    steps = terms.shape[1] // points
+    A = np.empty(terms.shape[1:])
     for s in range(omegas.shape[0]):  # parallelism is across speed chunks (sweep workers)
         w = omegas[s]
-        A = terms[0].copy()
-        power = 1.0
-        for p in range(1, n_terms):
-            power *= w
-            for g in range(n_points):
-                for i in range(d):
-                    for j in range(d):
-                        A[g, i, j] += power * terms[p, g, i, j]
+        state_matrices(terms, w, A)
         _magnus_steps(A, 2.0 * np.pi / (w * steps), out[s], points)
+
+
+@njit(cache=True)
+def state_matrices(terms, omega, out):
+    """out (g, d, d) = sum_p omega^p terms[p] for terms (P, g, d, d)."""
+    out[:] = terms[0]
+    power = 1.0
+    for p in range(1, terms.shape[0]):
+        power *= omega
+        for g in range(terms.shape[1]):
+            for i in range(terms.shape[2]):
+                for j in range(terms.shape[3]):
+                    out[g, i, j] += power * terms[p, g, i, j]
 
 
 @njit(cache=True)
