@@ -172,8 +172,8 @@ class MagnusLadder:
     speed's budget (and N <= LARGEST, fewer for large models: :meth:`max_steps`).
 
     Each speed climbs its own rungs, so its result does not depend on the other speeds
-    of the call. First rungs and orders, per speed: the first rung is START / 2 steps, or the first rung whose
-    balanced generator size scale * span / (omega N) is at most FIRST_RHO
+    of the call. First rungs and orders, per speed: the first rung is START / 2 steps, or
+    the first rung whose balanced generator size scale * span / (omega N) is at most FIRST_RHO
     (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of element models
     and cost the most squarings). With both orders, a speed whose first rung has at least
     STIFF steps takes order 4 (on the stiff slider-crank its error is smaller than order
@@ -197,7 +197,7 @@ class MagnusLadder:
         self.orders = (6, 4) if order is None else (order,)
         self.spectra = (mass, damping, stiffness)
         self.n = mass.shape[1]
-        self.shapes = (damping.shape[-1], stiffness.shape[-1])  # Pc, Pk: omega powers of C and K
+        self.powers = (damping.shape[-1], stiffness.shape[-1])  # Pc, Pk: omega-power terms of C and K
         # the three spectra stacked as real cosine/sine rows (the kernel's input)
         self._rows = np.ascontiguousarray(StackedSpectra(*self.spectra).rows)
         self.signs = half_period_signs(mass, damping, stiffness)
@@ -210,7 +210,7 @@ class MagnusLadder:
         of ``steps`` steps of ``order`` over the span, and the balancing scale (1/s); over
         half a period, term p is divided by 2^p so that the kernel, given twice the speed,
         takes steps of span / (omega steps) with the right matrix."""
-        terms, a = kernel.rung_terms(self._rows, self.n, *self.shapes, int(steps), order // 2, self.span,
+        terms, a = kernel.rung_terms(self._rows, self.n, *self.powers, int(steps), order // 2, self.span,
                                      self.signs is not None)
         return terms, float(a)
 
@@ -246,7 +246,7 @@ class MagnusLadder:
     def max_steps(self, order: int) -> int:
         """Most steps of a rung of ``order``: LARGEST, or fewer (a power of 2) where the
         rung's terms would exceed TERMS_ENTRIES."""
-        per_step = (order // 2) * (2 * self.n) ** 2 * max(self.shapes)
+        per_step = (order // 2) * (2 * self.n) ** 2 * max(self.powers)
         return int(min(self.LARGEST, 2 ** np.floor(np.log2(max(2.0, self.TERMS_ENTRIES / per_step)))))
 
     def orders_at(self, omegas: np.ndarray) -> np.ndarray:
@@ -287,5 +287,5 @@ class MagnusLadder:
         :func:`periodyn.kernels.magnus_ladder.ladder_climb`)."""
         w = np.ascontiguousarray(omegas, dtype=float).reshape(-1)
         budget = np.ascontiguousarray(np.broadcast_to(np.asarray(budget, float), w.shape))
-        return MagnusEstimate(*kernel.ladder_climb(self._rows, self.n, *self.shapes, self._signs(), self.config(),
+        return MagnusEstimate(*kernel.ladder_climb(self._rows, self.n, *self.powers, self._signs(), self.config(),
                                                    self._cache, w, budget))

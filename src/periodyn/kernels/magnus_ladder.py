@@ -235,7 +235,8 @@ def rung_moduli(terms, omega, points, signs, A, Phi, exps, moduli):
 def _eigvals(X):
     """Eigenvalues (d,) complex of a real square matrix by LAPACK dgeev (X is not changed)."""
     d = X.shape[0]
-    a = np.asfortranarray(X).copy()
+    a = np.empty((d, d)).T  # Fortran order, as LAPACK reads it
+    a[:, :] = X
     wr, wi, dummy = np.empty(d), np.empty(d), np.empty(1)
     info = _DGEEV(ord("d"), ord("N"), ord("N"), d, a.ctypes, d, wr.ctypes, wi.ctypes, dummy.ctypes, 1,
                   dummy.ctypes, 1)
