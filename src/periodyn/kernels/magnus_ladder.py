@@ -6,8 +6,8 @@
   2 or 3 Gauss points over the ladder's span) from the stacked real spectra
   ``rows`` (2K+1, width): the cosine/sine rows of M (n, n), C (n, n, Pc) and K (n, n, Pk)
   flattened in C order and placed side by side (:class:`periodyn.spectra.StackedSpectra`).
-* ``rung_costs`` / ``first_rungs``: the ladder's cost model (estimated seconds of a
-  monodromy) and first rungs.
+* ``rung_cost`` / ``first_rung`` / ``plan``: the ladder's cost model (estimated seconds
+  of a monodromy), first rungs and per-speed orders.
 * ``ladder_climb``: the whole step-doubling climb of many speeds in one call (plan,
   monodromies, multipliers, error estimates, verdicts); the rule is written in the
   docstring of :class:`periodyn.magnus.MagnusLadder`.
@@ -188,10 +188,9 @@ def plan(config, omegas, d, out_order, out_first, out_cost):
 @njit(cache=True, error_model="numpy")
 def rung_moduli(terms, omega, points, signs, A, Phi, exps, moduli):
     """One rung at one speed: the monodromy Phi (d, d) from the rung's terms (A: scratch
-    of the shape of terms[0]), its
-    exponents exps (d,) (principal values, rad/s, sorted by real then imaginary part;
-    NaN when Phi is not finite or singular) and the sorted multiplier moduli (d,)
-    exp(Re lambda T). With signs (n,) (half-period symmetry; empty: none) the terms span
+    of the shape of terms[0]), its exponents exps (d,) (principal values, rad/s, sorted by
+    real then imaginary part; NaN when Phi is not finite or singular) and the sorted
+    multiplier moduli (d,) exp(Re lambda T). With signs (n,) (half-period symmetry; empty: none) the terms span
     half a period and Phi = (P Phi(T/2))^2."""
     d = Phi.shape[0]
     half = signs.shape[0] > 0
@@ -259,8 +258,8 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
     """The certified Magnus ladder at speeds omegas (S,) rad/s, each speed doubling its
     steps while the spent estimated cost stays within budget (S,) s
     (:class:`periodyn.magnus.MagnusLadder`); cache: the rung terms built so far
-    (:func:`new_terms_cache`), completed in place. Returns exponents (S, 2n) complex, accepted
-    (S,) bool, steps (S,) int64 (0: not tried), error (S,), margin (S,), order (S,) int64
+    (:func:`new_terms_cache`), completed in place. Returns exponents (S, 2n) complex,
+    accepted (S,) bool, steps (S,) int64 (0: not tried), error (S,), margin (S,), order (S,) int64
     and the estimated seconds of the first two rungs (S,)."""
     S, d = omegas.shape[0], 2 * n
     scale, span, tol, floor = config[CFG_SCALE], config[CFG_SPAN], config[CFG_TOL], config[CFG_FLOOR]
