@@ -135,6 +135,11 @@ class SpeedBatch:
 
 _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of a speed chunk)
 _EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier exp(lambda T) is finite
+# speed_costs (load balance of sweeps): HB multiply-adds per second and set-up per speed
+# (Cardan shaft 0.1 ms, slider-crank 0.05 ms per speed measured on one core), and the
+# Magnus climb over its first comparison (Cardan shaft: 6.6-10.7x measured over 0-1 omega_b)
+_HB_RATE, _HB_SETUP = 1e10, 5e-6
+CLIMB_FACTOR = 8.0
 
 
 class SpeedSolver:
@@ -202,6 +207,27 @@ class SpeedSolver:
         reasons = np.array([magnus_reason(est, i, hill[i][0], seconds[i], first[i]) for i in range(w.size)],
                            dtype=object)
         return est.exponents, methods, reasons
+
+    def speed_costs(self, omegas) -> np.ndarray:
+        """Estimated seconds (S,) of each speed (rad/s), for sharing a sweep's work out
+        evenly; only their ratios are used. The harmonic balance costs the same at every
+        speed (its LU: the cheaper of N^3/3 dense and 2 N u^2 banded multiply-adds, at
+        _HB_RATE, plus a set-up); "auto" adds its Magnus climb (CLIMB_FACTOR times the
+        ladder's estimate of the first comparison, which grows as the speed falls: the
+        steps must resolve the stiffest mode over a longer period), at most what the
+        budget rule lets it spend before Hill takes over; "monodromy" adds its integration
+        over one period (proportional to the period); the other methods cost the same at
+        every speed."""
+        w = check_speeds(omegas)
+        pat = self.pattern
+        hb = _HB_SETUP + min(pat.size**3 / 3.0, 2.0 * pat.size * pat.half_bandwidth**2) / _HB_RATE
+        if not self.stability or self.method not in ("auto", "monodromy"):
+            return np.full(w.size, hb)
+        if self.method == "monodromy":
+            return hb * (1.0 + w.min() / w)
+        hill = np.array([c for _, _, c in self.hill_methods(w)])
+        climb = np.minimum(CLIMB_FACTOR * self.ladder.first_cost(w), HILL_TIME_FACTOR * hill)
+        return hb + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError

@@ -151,14 +151,14 @@ def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
 
     monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": -1.0})
     monkeypatch.setattr(backends, "_STARTED", [True])
-    assert backends._worth_starting(0.01, 10, 2)   # 0.1 s left, up at once (the -1 s prior)
+    assert backends._worth_starting(0.1, 0.01, 2)   # 0.1 s left, up at once (the -1 s prior)
     backends.START_COST["later"] = 0.2
-    assert not backends._worth_starting(0.01, 10, 2)  # 0.1 s left: done before a worker is up
-    assert backends._worth_starting(0.01, 100, 2)      # 1 s left: 0.4 s saved
+    assert not backends._worth_starting(0.1, 0.01, 2)  # 0.1 s left: done before a worker is up
+    assert backends._worth_starting(1.0, 0.01, 2)      # 1 s left: 0.4 s saved
     # 0.08 s left once they are up: 0.04 s saved with one more process, 0.06 s with three,
     # against a 0.05 s wait for the last chunk
     backends.START_COST["later"] = 0.22
-    assert backends._worth_starting(0.1, 3, 4) and not backends._worth_starting(0.1, 3, 2)
+    assert backends._worth_starting(0.3, 0.1, 4) and not backends._worth_starting(0.3, 0.1, 2)
     backends._record_start(SimpleNamespace(ready_after=0.3, created=0.0), 0.05)
     assert backends.START_COST["later"] == pytest.approx(0.35)  # up after 0.3 s, shut down in 0.05 s
     never_up = SimpleNamespace(ready_after=None, created=time.perf_counter() - 1.0)
@@ -167,6 +167,30 @@ def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
     sweep(model, OMEGA, M, workers=2, execution=ExecutionOptions(chunk_size=4, eager_workers=True), progress=False)
     measured = backends.START_COST["later"]  # a measurement, or the 1 s lower bound if no worker came up
     assert np.isfinite(measured) and measured > 0.0
+
+
+def test_chunks_of_equal_estimated_cost():
+    """With costs, a chunk ends once its cost reaches the target (or at the count limit):
+    slow points go in short chunks; every index once, in order."""
+    from periodyn.engine.checkpoint import split
+
+    indices = np.arange(10, 30)
+    costs = np.where(indices < 14, 10.0, 1.0)  # four slow points, then fast ones
+    chunks = split(indices, 8, costs, chunk_cost=10.0)
+    np.testing.assert_array_equal(np.concatenate(chunks), indices)
+    assert [len(c) for c in chunks] == [1, 1, 1, 1, 8, 8]  # cost 10 each, then the count limit
+    assert [len(c) for c in split(indices, 8)] == [8, 8, 4]  # without costs: by count
+
+
+def test_speed_costs_follow_the_stability_work(model):
+    """The load-balance estimate: "auto" (Magnus ladder) costs more at low speeds, whose
+    first rungs need more steps (the measured time grows alike); a fixed-step method costs
+    the same at every speed."""
+    w = W0 * np.array([0.002, 0.02, 0.2, 1.0])
+    auto = SpeedSolver(model, M).speed_costs(w)
+    assert np.all(np.diff(auto) <= 0) and auto[0] > 3 * auto[-1]
+    fixed = SpeedSolver(model, M, method="magnus").speed_costs(w)
+    assert np.all(fixed == fixed[0]) and fixed[0] > 0
 
 
 def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):

@@ -193,13 +193,12 @@ START_COST = {"first": 2.0, "later": 0.2}
 _STARTED: list[bool] = []  # a pool was started in this process
 
 
-def _worth_starting(chunk_seconds: float, chunks_left: int, workers: int) -> bool:
-    """Whether ``workers - 1`` more processes would finish the chunks left sooner than this
-    process alone. This process keeps solving while they start (:data:`START_COST`); the
-    work left then is shared by ``workers`` processes, which saves
-    ``(left - start) (1 - 1/workers)``; that must exceed the expected wait for the last
-    chunk sent to a worker (half a chunk)."""
-    left = chunk_seconds * chunks_left
+def _worth_starting(left: float, chunk_seconds: float, workers: int) -> bool:
+    """Whether ``workers - 1`` more processes would finish the chunks left (``left``
+    estimated seconds, chunks of about ``chunk_seconds``) sooner than this process alone.
+    This process keeps solving while they start (:data:`START_COST`); the work left then
+    is shared by ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
+    that must exceed the expected wait for the last chunk sent to a worker (half a chunk)."""
     start = START_COST["later" if _STARTED else "first"]
     return (left - start) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
 
@@ -216,8 +215,10 @@ def _record_start(pool: "_Pool", closed: float) -> None:
 
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     """``workers`` processes, this one included. This process (one thread, as the serial
-    path) solves the last two chunks first and times the second; unless ``workers - 1``
-    more processes would finish the rest sooner, counting their measured start
+    path) solves the last two chunks first and times the second; the rest is estimated
+    from that time scaled by the chunks' estimated costs (:meth:`Job.point_costs`: at low
+    speeds a chunk may cost many times the last one). Unless ``workers - 1`` more
+    processes would finish the rest sooner, counting their measured start
     (:func:`_worth_starting`), it solves them alone, else the local worker processes take
     chunks from the front while it solves chunks from the back, so a short sweep never
     waits for the workers to start (``execution.eager_workers``: start them whatever the
@@ -231,7 +232,9 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
             seconds = time.perf_counter() - start
     if len(chunks) <= 2:
         return
-    if not execution.eager_workers and not _worth_starting(seconds, len(chunks) - 2, workers):
+    timed = job.point_costs(chunks[-2]).sum()
+    left = seconds * sum(job.point_costs(c).sum() for c in chunks[:-2]) / timed
+    if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
     pool = _Pool(job, chunks[:-2], workers - 1)

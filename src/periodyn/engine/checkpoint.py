@@ -129,6 +129,20 @@ def fingerprint(job: Job, options: dict, identity: str) -> str:
     return digest.hexdigest()
 
 
-def split(indices: np.ndarray, chunk_size: int) -> list[np.ndarray]:
-    return [indices[i:i + chunk_size] for i in range(0, len(indices), chunk_size)]
+def split(indices: np.ndarray, chunk_size: int, costs: np.ndarray | None = None,
+          chunk_cost: float = np.inf) -> list[np.ndarray]:
+    """Consecutive chunks of ``indices`` with at most ``chunk_size`` points each; with
+    ``costs`` (estimated seconds per point, same length), a chunk also ends once its cost
+    reaches ``chunk_cost``, so that chunks of slow points hold fewer of them."""
+    if costs is None or not np.isfinite(chunk_cost):
+        return [indices[i:i + chunk_size] for i in range(0, len(indices), chunk_size)]
+    chunks, start, spent = [], 0, 0.0
+    for i, cost in enumerate(costs):
+        spent += cost
+        if i + 1 - start == chunk_size or spent >= chunk_cost:
+            chunks.append(indices[start:i + 1])
+            start, spent = i + 1, 0.0
+    if start < len(indices):
+        chunks.append(indices[start:])
+    return chunks
 

@@ -98,11 +98,35 @@ class Job:
     n_outputs: int
     n_exponents: int
     _solvers: dict = field(default_factory=dict, repr=False)  # per grid point, built where used
+    speed_cost: np.ndarray | None = None  # estimated seconds per speed (speed_costs), where set
+
+    def point_costs(self, indices: np.ndarray) -> np.ndarray:
+        """Estimated seconds of the points with these flat indices: ``speed_cost`` of
+        their speeds, else 1 each."""
+        if self.speed_cost is None:
+            return np.ones(len(indices))
+        return self.speed_cost[np.asarray(indices) % len(self.omega)]
 
     def __getstate__(self):
         state = dict(self.__dict__)
         state["_solvers"] = {}  # speed solvers are rebuilt in each worker, never shipped
         return state
+
+    def speed_costs(self) -> np.ndarray:
+        """Estimated seconds (n_omega,) of each speed at the first grid point, for sharing
+        the work out (:meth:`periodyn.analysis.SpeedSolver.speed_costs`; every grid point
+        is taken to cost alike); the same at every speed for a callable model."""
+        first = (0,) * len(self.source.grid_names)
+        if not isinstance(self.source.model_at(first), OmegaSplitModel):
+            return np.ones(len(self.omega))
+        return self._solver(first).speed_costs(self.omega)
+
+    def _solver(self, grid_index: tuple[int, ...]) -> SpeedSolver:
+        solver = self._solvers.get(grid_index)
+        if solver is None:
+            model = self.source.model_at(grid_index)
+            solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, self.stability, self.method)
+        return solver
 
     def batch(self, grid_index: tuple[int, ...], omegas: np.ndarray) -> SpeedBatch:
         """Results at one grid point for the speeds omegas: an OmegaSplitModel goes through
@@ -110,10 +134,7 @@ class Job:
         once), a callable model point by point through solve_point."""
         model = self.source.model_at(grid_index)
         if isinstance(model, OmegaSplitModel):
-            solver = self._solvers.get(grid_index)
-            if solver is None:
-                solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, self.stability, self.method)
-            return solver.solve_many(omegas)
+            return self._solver(grid_index).solve_many(omegas)
         points, messages = [], []
         for w in omegas:
             try:
