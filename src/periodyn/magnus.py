@@ -175,7 +175,8 @@ class MagnusLadder:
     of the call. First rungs and orders, per speed: the first rung is START / 2 steps, or
     the first rung whose balanced generator size scale * span / (omega N) is at most FIRST_RHO
     (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of element models
-    and cost the most squarings). With both orders, a speed whose first rung has at least
+    and cost the most squarings), at most FIRST_MAX (FIRST_MAX / 2 where the generator
+    there is at most CLEAN_RHO). With both orders, a speed whose first rung has at least
     STIFF steps takes order 4 (on the stiff slider-crank its error is smaller than order
     6's at the same steps), the others order 6 (:meth:`orders_at`).
 
@@ -188,7 +189,14 @@ class MagnusLadder:
     LARGEST = 4096  # steps
     STIFF = 16  # first-rung steps from which "both orders" takes order 4
     FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
-    FIRST_MAX = 128  # most steps of a first rung
+    # Most steps of a first rung: FIRST_MAX, or half of it where the generator there is at
+    # most CLEAN_RHO. On the slider-crank with 8 rod elements (generators of 88-177 at 64
+    # steps over 150-300 rad/s) the log|mu| errors fall cleanly from 64 steps (1.5e-8, then
+    # 4.4e-10 at 128), so it certifies at the first comparison of 64 and 128 steps; with 32
+    # elements (1400-2800 at 64 steps) they are erratic up to 256 steps (3.9e-6 at 64,
+    # 1.4e-7 at 128, 5.3e-7 at 256), so its first comparison starts at 128.
+    FIRST_MAX = 128
+    CLEAN_RHO = 256.0
     TERMS_ENTRIES = 4e7  # most entries of one rung's terms (320 MB), which bounds its steps
 
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
@@ -224,6 +232,7 @@ class MagnusLadder:
         c[kernel.CFG_LARGEST4], c[kernel.CFG_LARGEST6] = self.max_steps(4), self.max_steps(6)
         c[kernel.CFG_TOL], c[kernel.CFG_FLOOR] = STABILITY_TOL, ERROR_FLOOR
         c[kernel.CFG_ORDERS] = 0 if len(self.orders) == 2 else self.orders[0]
+        c[kernel.CFG_CLEAN_RHO] = self.CLEAN_RHO
         return c
 
     def cost(self, omegas: np.ndarray, steps, order: int = 6) -> np.ndarray:
@@ -237,8 +246,9 @@ class MagnusLadder:
         return out
 
     def first_rungs(self, omegas: np.ndarray, order: int = 6) -> np.ndarray:
-        """Steps (S,) of a speed's first rung: START / 2, or more (up to FIRST_MAX) where
-        the balanced step generator would exceed FIRST_RHO."""
+        """Steps (S,) of a speed's first rung: START / 2, or more where the balanced step
+        generator would exceed FIRST_RHO, up to FIRST_MAX (or FIRST_MAX / 2 where the
+        generator there is at most CLEAN_RHO)."""
         config = self.config()
         return np.array([kernel.first_rung(config, w, order) for w in np.atleast_1d(np.asarray(omegas, float))],
                         dtype=np.int64)
