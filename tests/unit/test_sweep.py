@@ -169,6 +169,24 @@ def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
     assert np.isfinite(measured) and measured > 0.0
 
 
+def test_first_start_counts_the_time_the_fork_server_already_had(monkeypatch):
+    """Started ahead of the first pool, the fork server's warm-up overlaps the first
+    chunks: the expected start is the prior less the time since, at least "later"."""
+    from periodyn.engine import backends
+
+    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": 0.2})
+    monkeypatch.setattr(backends, "_STARTED", [])
+    monkeypatch.setattr(backends, "_SERVER_SINCE", [])
+    assert backends._start_cost() == 2.0
+    backends._SERVER_SINCE.append(time.perf_counter() - 1.5)
+    assert backends._start_cost() == pytest.approx(0.5, abs=0.05)
+    backends._SERVER_SINCE[0] -= 5.0
+    assert backends._start_cost() == 0.2
+    backends._STARTED.append(True)
+    backends._SERVER_SINCE.clear()
+    assert backends._start_cost() == 0.2
+
+
 def test_chunks_of_equal_estimated_cost():
     """With costs, a chunk ends once its cost reaches the target (or at the count limit):
     slow points go in short chunks; every index once, in order."""

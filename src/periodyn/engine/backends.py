@@ -191,6 +191,31 @@ class _Pool:
 #: priors until a pool of this process has been timed, then the latest measurement.
 START_COST = {"first": 2.0, "later": 0.2}
 _STARTED: list[bool] = []  # a pool was started in this process
+_SERVER_SINCE: list[float] = []  # when this process started the fork server ahead of its first pool
+
+
+def _start_server_early() -> None:
+    """Start the fork server (imports and kernel loading, :func:`_process_context`) before
+    the first pool of this process, so that it warms up on another core while this
+    process solves its first chunks; nothing with the "spawn" start method."""
+    context = _process_context()
+    if _STARTED or _SERVER_SINCE or context.get_start_method() != "forkserver":
+        return
+    from multiprocessing import forkserver
+
+    with worker_environment():
+        forkserver.ensure_running()
+    _SERVER_SINCE.append(time.perf_counter())
+
+
+def _start_cost() -> float:
+    """Expected seconds until a worker is up: START_COST "later" after the first pool; for
+    the first, "first" less the time the fork server has already had (at least "later")."""
+    if _STARTED:
+        return START_COST["later"]
+    if _SERVER_SINCE:
+        return max(START_COST["later"], START_COST["first"] - (time.perf_counter() - _SERVER_SINCE[0]))
+    return START_COST["first"]
 
 
 def _worth_starting(left: float, chunk_seconds: float, workers: int) -> bool:
@@ -199,8 +224,7 @@ def _worth_starting(left: float, chunk_seconds: float, workers: int) -> bool:
     This process keeps solving while they start (:data:`START_COST`); the work left then
     is shared by ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
     that must exceed the expected wait for the last chunk sent to a worker (half a chunk)."""
-    start = START_COST["later" if _STARTED else "first"]
-    return (left - start) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
+    return (left - _start_cost()) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
 
 
 def _record_start(pool: "_Pool", closed: float) -> None:
@@ -222,7 +246,9 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     (:func:`_worth_starting`), it solves them alone, else the local worker processes take
     chunks from the front while it solves chunks from the back, so a short sweep never
     waits for the workers to start (``execution.eager_workers``: start them whatever the
-    estimate)."""
+    estimate). The fork server of the first pool starts at once (:func:`_start_server_early`)."""
+    if len(chunks) > 2:
+        _start_server_early()
     with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
         yield job.solve(chunks[-1])
         seconds = 0.0
