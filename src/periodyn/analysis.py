@@ -140,6 +140,7 @@ _EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier 
 # Magnus climb over its first comparison (Cardan shaft: 6.6-10.7x measured over 0-1 omega_b)
 _HB_RATE, _HB_SETUP = 1e10, 5e-6
 CLIMB_FACTOR = 8.0
+_MONODROMY_SECONDS = 1e-3  # DOP853 over one period at the sweep's highest speed (steps grow with the period)
 
 
 class SpeedSolver:
@@ -216,15 +217,15 @@ class SpeedSolver:
         ladder's estimate of the first comparison, which grows as the speed falls: the
         steps must resolve the stiffest mode over a longer period), at most what the
         budget rule lets it spend before Hill takes over; "monodromy" adds its integration
-        over one period (proportional to the period); the other methods cost the same at
-        every speed."""
+        over one period (nominally _MONODROMY_SECONDS at the highest speed, in proportion
+        to the period); the other methods cost the same at every speed."""
         w = check_speeds(omegas)
         pat = self.pattern
         hb = _HB_SETUP + min(pat.size**3 / 3.0, 2.0 * pat.size * pat.half_bandwidth**2) / _HB_RATE
         if not self.stability or self.method not in ("auto", "monodromy"):
             return np.full(w.size, hb)
         if self.method == "monodromy":
-            return hb * (1.0 + w.min() / w)
+            return hb + _MONODROMY_SECONDS * w.max() / w
         hill = np.array([c for _, _, c in self.hill_methods(w)])
         climb = np.minimum(CLIMB_FACTOR * self.ladder.first_cost(w), HILL_TIME_FACTOR * hill)
         return hb + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)

@@ -155,7 +155,7 @@ def first_rung(config, omega, order):
     """Steps of a speed's first rung of ``order``: START / 2, or more where the balanced
     step generator would exceed FIRST_RHO, up to FIRST_MAX, or up to FIRST_MAX / 2 where
     the generator of that rung is at most CLEAN_RHO."""
-    size = config[CFG_SCALE] * config[CFG_SPAN] / omega  # balanced generator size of one step over the span
+    size = config[CFG_SCALE] * config[CFG_SPAN] / omega  # balanced generator size of a single step over the span
     most = config[CFG_FIRST_MAX]
     if size / (0.5 * most) <= config[CFG_CLEAN_RHO]:
         most *= 0.5
