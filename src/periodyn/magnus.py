@@ -190,13 +190,14 @@ class MagnusLadder:
     STIFF = 16  # first-rung steps from which "both orders" takes order 4
     FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
     # Most steps of a first rung: FIRST_MAX, or half of it where the generator there is at
-    # most CLEAN_RHO. On the slider-crank with 8 rod elements (generators of 88-177 at 64
-    # steps over 150-300 rad/s) the log|mu| errors fall cleanly from 64 steps (1.5e-8, then
-    # 4.4e-10 at 128), so it certifies at the first comparison of 64 and 128 steps; with 32
-    # elements (1400-2800 at 64 steps) they are erratic up to 256 steps (3.9e-6 at 64,
-    # 1.4e-7 at 128, 5.3e-7 at 256), so its first comparison starts at 128.
+    # most CLEAN_RHO. On the slider-crank with 8 and 16 rod elements (generators of 88-177
+    # and 353-707 at 64 steps over 150-300 rad/s) the log|mu| errors of order 4 against
+    # 2048 steps fall cleanly from 64 steps (1.2e-8-1.4e-8, then 2e-10-2.5e-9 at 128), so
+    # they certify at the first comparison of 64 and 128 steps; with 32 elements
+    # (1413-2827 at 64 steps) they are erratic up to 512 steps (3.8e-6 at 64, 8.5e-8 at
+    # 128, 4.7e-7 at 256, 5.9e-8 at 512), so its first comparison starts at 128.
     FIRST_MAX = 128
-    CLEAN_RHO = 256.0
+    CLEAN_RHO = 1024.0
     TERMS_ENTRIES = 4e7  # most entries of one rung's terms (320 MB), which bounds its steps
 
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
