@@ -289,7 +289,9 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
         C0[:, :, -1] = sensitivity
         tol[bN:].reshape(bN, kc)[:, -1] = _SENS_ATOL  # loose: the sensitivity must not shorten the steps
     implicit = method in ("Radau", "BDF", "LSODA")
-    t_all = None if t_eval is None else np.append(np.asarray(t_eval, float), float(span))
+    # only the sampled phases and the end are kept (not every step: a stiff system takes
+    # hundreds of thousands of explicit steps, each holding the 2n(k + 1) states)
+    t_all = np.append([] if t_eval is None else np.asarray(t_eval, float), float(span))
     sol = solve(rhs, (0.0, float(span)), np.concatenate([y0.ravel(), C0.ravel()]), t_eval=t_all, rtol=rtol, atol=tol,
                 method=method, jac=jac if implicit else None)
     Y, C = parts(sol.y[:, -1])
