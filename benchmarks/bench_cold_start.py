@@ -7,7 +7,9 @@ time of each is printed with the ratio 2 workers / 1 worker (below 1: the second
 worker pays for its start). Run ``periodyn warmup`` once before, so that the kernels
 are in the cache (a cold cache is the first-install case, not this one).
 
-Run: python benchmarks/bench_cold_start.py [--rounds 3] [--speeds 1000] [--cases pendulum]
+Compare source trees by running it once per tree with ``PYTHONPATH=<tree>/src``.
+
+Run: python benchmarks/bench_cold_start.py [--rounds 3] [--speeds 1000] [--cases pendulum cardan]
 """
 
 import argparse
@@ -21,6 +23,7 @@ import numpy as np
 CASES = {
     "pendulum": "periodyn.examples.pendulum(samples=64), np.linspace(0.002, 1.4, {n}) * 3.132091952673165",
     "slider-crank": "periodyn.examples.slider_crank(damping=0.02), np.linspace(150.0, 300.0, {n})",
+    "cardan": "periodyn.examples.cardan_shaft(), np.linspace(0.001, 0.999, {n}) * 766.0",
 }
 SCRIPT = """
 import time
