@@ -149,10 +149,11 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     # estimated cost in a sweep long enough to gain from it (at low speeds a point may
     # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points, an
     # explicit chunk_size is taken as given
+    if backend != "serial":
+        job.speed_cost = job.speed_costs()
     if execution.chunk_size or backend == "serial":
         chunks = split(pending, execution.chunk_size or _MAX_CHUNK)
     else:
-        job.speed_cost = job.speed_costs()
         costs = job.point_costs(pending)
         per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
         size = max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))

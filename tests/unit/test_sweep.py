@@ -187,6 +187,25 @@ def test_first_start_counts_the_time_the_fork_server_already_had(monkeypatch):
     assert backends._start_cost() == 0.2
 
 
+def test_an_unused_early_fork_server_is_stopped_at_exit(monkeypatch):
+    """A fork server started ahead of a pool that never came is stopped at exit (it holds
+    the caller's output pipes until its warm-up ends); one a pool used is left alone."""
+    import signal
+    import subprocess
+
+    from periodyn.engine import backends
+
+    for started, stopped in (([True], False), ([], True)):
+        monkeypatch.setattr(backends, "_STARTED", started)
+        server = subprocess.Popen(["sleep", "30"])
+        backends._stop_unused_server(server.pid)
+        try:
+            assert (server.wait(timeout=10) == -signal.SIGTERM) if stopped else server.poll() is None
+        finally:
+            server.kill()
+            server.wait()
+
+
 def test_chunks_of_equal_estimated_cost():
     """With costs, a chunk ends once its cost reaches the target (or at the count limit):
     slow points go in short chunks; every index once, in order."""

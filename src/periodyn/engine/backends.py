@@ -13,9 +13,12 @@ parallel and distributed results agree bit for bit. The job reaches each worker 
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import hashlib
 import multiprocessing
 import os
+import signal
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
@@ -197,7 +200,9 @@ _SERVER_SINCE: list[float] = []  # when this process started the fork server ahe
 def _start_server_early() -> None:
     """Start the fork server (imports and kernel loading, :func:`_process_context`) before
     the first pool of this process, so that it warms up on another core while this
-    process solves its first chunks; nothing with the "spawn" start method."""
+    process solves its first chunks; nothing with the "spawn" start method. A server no
+    pool used is stopped when this process exits: it holds this process's output pipes
+    and would keep a caller reading them waiting until its warm-up ends."""
     context = _process_context()
     if _STARTED or _SERVER_SINCE or context.get_start_method() != "forkserver":
         return
@@ -206,6 +211,15 @@ def _start_server_early() -> None:
     with worker_environment():
         forkserver.ensure_running()
     _SERVER_SINCE.append(time.perf_counter())
+    pid = getattr(forkserver._forkserver, "_forkserver_pid", None)
+    if pid is not None:
+        atexit.register(_stop_unused_server, pid)
+
+
+def _stop_unused_server(pid: int) -> None:
+    if not _STARTED:
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGTERM)
 
 
 def _start_cost() -> float:
@@ -246,8 +260,9 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     (:func:`_worth_starting`), it solves them alone, else the local worker processes take
     chunks from the front while it solves chunks from the back, so a short sweep never
     waits for the workers to start (``execution.eager_workers``: start them whatever the
-    estimate). The fork server of the first pool starts at once (:func:`_start_server_early`)."""
-    if len(chunks) > 2:
+    estimate). The fork server of the first pool starts at once where the chunks are
+    estimated to take longer than its start (:func:`_start_server_early`)."""
+    if len(chunks) > 2 and sum(job.point_costs(c).sum() for c in chunks) >= START_COST["first"]:
         _start_server_early()
     with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
         yield job.solve(chunks[-1])

@@ -85,6 +85,9 @@ def describe(params: Mapping[str, Any]) -> str:
 
 
 # ----------------------------------------------------------------------------- job
+_CALLABLE_SECONDS = 1e-2  # nominal seconds per speed of a callable model (a system built and solved per speed)
+
+
 @dataclass
 class Job:
     """Everything a worker needs; sent once per worker. Points have flat indices
@@ -115,10 +118,11 @@ class Job:
     def speed_costs(self) -> np.ndarray:
         """Estimated seconds (n_omega,) of each speed at the first grid point, for sharing
         the work out (:meth:`periodyn.analysis.SpeedSolver.speed_costs`; every grid point
-        is taken to cost alike); the same at every speed for a callable model."""
+        is taken to cost alike); the same at every speed for a callable model
+        (_CALLABLE_SECONDS: it builds and solves its system at each speed)."""
         first = (0,) * len(self.source.grid_names)
         if not isinstance(self.source.model_at(first), OmegaSplitModel):
-            return np.ones(len(self.omega))
+            return np.full(len(self.omega), _CALLABLE_SECONDS)
         return self._solver(first).speed_costs(self.omega)
 
     def _solver(self, grid_index: tuple[int, ...]) -> SpeedSolver:
