@@ -262,7 +262,8 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     waits for the workers to start (``execution.eager_workers``: start them whatever the
     estimate). The fork server of the first pool starts at once where the chunks are
     estimated to take longer than its start (:func:`_start_server_early`)."""
-    if len(chunks) > 2 and sum(job.point_costs(c).sum() for c in chunks) >= START_COST["first"]:
+    costs = [float(job.point_costs(c).sum()) for c in chunks]  # estimated seconds per chunk
+    if len(chunks) > 2 and sum(costs) >= START_COST["first"]:
         _start_server_early()
     with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
         yield job.solve(chunks[-1])
@@ -273,8 +274,7 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
             seconds = time.perf_counter() - start
     if len(chunks) <= 2:
         return
-    timed = job.point_costs(chunks[-2]).sum()
-    left = seconds * sum(job.point_costs(c).sum() for c in chunks[:-2]) / timed
+    left = seconds * sum(costs[:-2]) / costs[-2]
     if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
