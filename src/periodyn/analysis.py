@@ -139,7 +139,7 @@ _EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier 
 # (Cardan shaft 0.1 ms, slider-crank 0.05 ms per speed measured on one core), and the
 # Magnus climb over its first comparison (Cardan shaft: 6.6-10.7x measured over 0-1 omega_b)
 _HB_RATE, _HB_SETUP = 1e10, 5e-6
-CLIMB_FACTOR = 8.0
+_CLIMB_FACTOR = 8.0
 _MONODROMY_SECONDS = 1e-3  # DOP853 over one period at the sweep's highest speed (steps grow with the period)
 
 
@@ -211,9 +211,10 @@ class SpeedSolver:
 
     def speed_costs(self, omegas) -> np.ndarray:
         """Estimated seconds (S,) of each speed (rad/s), for sharing a sweep's work out
-        evenly; only their ratios are used. The harmonic balance costs the same at every
+        evenly and judging whether worker processes pay (a rough estimate: measured
+        chunk times were 0.8-2.9x it on the Cardan shaft). The harmonic balance costs the same at every
         speed (its LU: the cheaper of N^3/3 dense and 2 N u^2 banded multiply-adds, at
-        _HB_RATE, plus a set-up); "auto" adds its Magnus climb (CLIMB_FACTOR times the
+        _HB_RATE, plus a set-up); "auto" adds its Magnus climb (_CLIMB_FACTOR times the
         ladder's estimate of the first comparison, which grows as the speed falls: the
         steps must resolve the stiffest mode over a longer period), at most what the
         budget rule lets it spend before Hill takes over; "monodromy" adds its integration
@@ -227,7 +228,7 @@ class SpeedSolver:
         if self.method == "monodromy":
             return hb + _MONODROMY_SECONDS * w.max() / w
         hill = np.array([c for _, _, c in self.hill_methods(w)])
-        climb = np.minimum(CLIMB_FACTOR * self.ladder.first_cost(w), HILL_TIME_FACTOR * hill)
+        climb = np.minimum(_CLIMB_FACTOR * self.ladder.first_cost(w), HILL_TIME_FACTOR * hill)
         return hb + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)
 
     def solve(self, omega: float) -> PointResult:
