@@ -17,7 +17,7 @@ import numpy as np
 from .errors import ConvergenceError, InputError
 from .floquet import is_stable
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
-from .harmonic.batch import BalanceBatch
+from .harmonic.batch import DENSE_TERMS_BYTES, BalanceBatch
 from .hb import periodic_solution
 from .hill import (HILL_TIME_FACTOR, FloquetExponents, auto_exponents, check_method,
                    dense_exponents_batch, hill_costs_many, magnus_reason, operator_exponents)
@@ -174,12 +174,16 @@ class SpeedSolver:
         if stability and self.method == "magnus":
             theta = gauss_angles(magnus_steps(model.samples))
             self.magnus = magnus_terms(*StackedSpectra(*model._power_spectra[:3]).at(theta))[0]
-        self.dense_hill = stability and self.method in ("dense", "auto")  # stacked dense Hill possible
+        # stacked dense Hill evaluates the precomputed real first-order Hill terms
+        # (PW, 2N, 2N) while they fit in DENSE_TERMS_BYTES; a larger model builds its dense
+        # Hill matrix speed by speed (the terms of the 32-element slider-crank at m = 32: 2.8 GB)
+        self.dense_hill = (stability and self.method in ("dense", "auto")
+                           and 8.0 * len(op.W) * (2 * self.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
         self.ladder = MagnusLadder(*model._power_spectra[:3]) if stability and self.method == "auto" else None
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
-        return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.method == "dense")
+        return self.harmonic.at(check_speeds(omega)[0], real_first_order=self.method == "dense" and self.dense_hill)
 
     def hill_methods(self, omegas) -> list[tuple[str, str, float]]:
         """Hill method at each speed (rad/s), why, and its estimated seconds: "auto"
@@ -284,14 +288,15 @@ class SpeedSolver:
             exps[accepted] = magnus[accepted]
         else:
             methods = np.array([name for name, _, _ in self.hill_methods(w)], dtype=object)
-        dense = np.nonzero(methods == "dense")[0]
+        stacked = (methods == "dense") & self.dense_hill
+        dense = np.nonzero(stacked)[0]
         if dense.size:
             exps[dense], _, found = dense_exponents_batch(self.harmonic.real_first_order_many(w[dense]), w[dense], m, n)
             for i in dense[found < 2 * n]:
                 exps[i] = np.nan
                 message[i] = (f"Hill's method with m = {m} resolved {found[dense == i][0]} of {2 * n} exponent "
                               f"clusters at omega = {w[i]:.6g} rad/s; increase harmonics")
-        for i in np.nonzero((methods != "dense") & (methods != "magnus"))[0]:
+        for i in np.nonzero(~stacked & (methods != "magnus"))[0]:
             try:
                 if methods[i] == "monodromy":
                     exps[i] = monodromy_exponents(self.model.at(w[i])).exponents

@@ -183,3 +183,22 @@ def test_unresolved_clusters_are_reported_per_speed(monkeypatch):
     assert np.isfinite(batch.exponents[[0, 2]]).all()
     with pytest.raises(ConvergenceError, match="exponent clusters"):
         solver.solve(2.0)
+
+
+def test_dense_hill_beyond_the_terms_budget_goes_speed_by_speed(monkeypatch):
+    """A model whose real first-order Hill terms would exceed DENSE_TERMS_BYTES builds its
+    dense Hill matrix per speed (the terms are never formed) and gets the stacked path's
+    exponents."""
+    import periodyn.analysis as analysis
+
+    model = periodyn.examples.slider_crank(damping=0.02, samples=32)
+    speeds = np.array([150.0, 220.0, 300.0])
+    stacked = SpeedSolver(model, 6, method="dense").solve_many(speeds)
+    monkeypatch.setattr(analysis, "DENSE_TERMS_BYTES", 0.0)
+    solver = SpeedSolver(model, 6, method="dense")
+    one_by_one = solver.solve_many(speeds)
+    assert not solver.dense_hill and "real_first_order_terms" not in solver.harmonic.__dict__
+    assert (one_by_one.message == "").all()
+    for a, b in zip(stacked.exponents, one_by_one.exponents):
+        assert_same_spectrum(np.exp(a * 2 * np.pi / 220.0), np.exp(b * 2 * np.pi / 220.0), atol=1e-10)
+    np.testing.assert_array_equal(stacked.stable, one_by_one.stable)
