@@ -215,9 +215,9 @@ class SpeedSolver:
 
     def speed_costs(self, omegas) -> np.ndarray:
         """Estimated seconds (S,) of each speed (rad/s), for sharing a sweep's work out
-        evenly and judging whether worker processes pay (a rough estimate: measured
-        chunk times were 0.8-2.9x it on the Cardan shaft). The harmonic balance costs the same at every
-        speed (its LU: the cheaper of N^3/3 dense and 2 N u^2 banded multiply-adds, at
+        evenly and judging whether worker processes pay (a rough estimate: measured chunk
+        times were 0.8-2.9x it on the Cardan shaft). The harmonic balance costs the same
+        at every speed (its LU: the cheaper of N^3/3 dense and 2 N u^2 banded multiply-adds, at
         _HB_RATE, plus a set-up); "auto" adds its Magnus climb (_CLIMB_FACTOR times the
         ladder's estimate of the first comparison, which grows as the speed falls: the
         steps must resolve the stiffest mode over a longer period), at most what the
