@@ -4,16 +4,18 @@
    slider-crank, slider-crank from elements) at its harmonics, and the slider-crank
    scaled to 4-32 rod elements at m = 4-64: speeds per second of SpeedSolver.solve_many
    with stability by "dense", "sparse" and "magnus" and by "auto", and the ratio of the
-   best method's rate to auto's (auto/best-Hill: the best of dense and sparse only).
-   A method whose estimated time per speed is above the budget is skipped ("-").
+   best method's rate to auto's (auto/best-Hill: the best of dense and sparse only),
+   each on speeds spread evenly over the range. A method whose estimated time per speed
+   is above the budget is skipped ("-").
 2. With --sweep: periodyn.sweep of 1000 speeds (fewer for the large model), default
    options (stability "auto"), on --workers processes, speeds/s (a cold start included
    when run first).
 3. With --per-speed: stability alone, ms per speed on one core, of the certified Magnus
-   ladder as "auto" uses it (both orders, chosen per speed), of order 6 alone,
-   of order 4 alone (the previous ladder's integrator) and of dense Hill at m = 12 (stacked), best of interleaved rounds on the same speeds, with the ladders' steps
-   and whether all give the same verdicts (pendulum, slider-crank 2 and 8 rod elements,
-   Cardan shaft).
+   ladder as "auto" uses it (both orders, chosen per speed), of order 6 alone, of order
+   4 alone (the previous ladder's integrator) and of dense Hill at m = 12 (stacked),
+   best of interleaved rounds on the same speeds, with the ladders' steps and whether
+   all give the same verdicts (pendulum, slider-crank 2 and 8 rod elements, Cardan
+   shaft).
 
 Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick] [--sweep] [--workers 2] [--per-speed]
 """
@@ -46,7 +48,8 @@ def scaled_slider_crank(elements: int, samples: int = 64):
 
 
 def pilot(solver, omegas, budget):
-    """Speeds that solve_many treats in about budget / 3 seconds (after a warm-up)."""
+    """How many speeds solve_many treats in about budget / 3 seconds (after a warm-up),
+    timed from the low end of the range (where "auto" and Magnus cost the most)."""
     solver.solve_many(omegas[:1])  # jit, cached terms
     done, t0 = 0, time.perf_counter()
     while done < omegas.size and (done == 0 or time.perf_counter() - t0 < budget / 3):
@@ -57,20 +60,22 @@ def pilot(solver, omegas, budget):
 
 
 def row(name, model, m, omegas, budget, rounds=3):
-    """Best of ``rounds`` interleaved timings of each method on the same speeds."""
+    """Best of ``rounds`` interleaved timings of each method on speeds spread evenly over
+    the range (as many as the method treats in about budget / 3 s)."""
     solvers = {k: SpeedSolver(model, m, method=k) for k in METHODS}
     if method_costs(solvers["dense"].pattern)[0] > budget:
         del solvers["dense"]
     per_shift = method_costs(solvers["sparse"].pattern)[1]
     if per_shift * _shift_frequencies(solvers["sparse"].harmonic.at(omegas[0])).size > budget:
         del solvers["sparse"]
-    count = {k: pilot(s, omegas, budget) for k, s in solvers.items()}
+    spread = {k: omegas[np.unique(np.linspace(0, omegas.size - 1, pilot(s, omegas, budget)).round().astype(int))]
+              for k, s in solvers.items()}  # evenly over the range
     times = {k: np.inf for k in solvers}
     for _ in range(rounds):
         for k, s in solvers.items():
             t0 = time.perf_counter()
-            s.solve_many(omegas[: count[k]])
-            times[k] = min(times[k], (time.perf_counter() - t0) / count[k])
+            s.solve_many(spread[k])
+            times[k] = min(times[k], (time.perf_counter() - t0) / spread[k].size)
     rates = {k: 1.0 / times[k] if k in times else np.nan for k in METHODS}
     choices = [c for c, _ in solvers["auto"].stability_methods(omegas)]
     auto_choice = "/".join(f"{c} {choices.count(c)}" for c in sorted(set(choices)))

@@ -173,12 +173,13 @@ class MagnusLadder:
 
     Each speed climbs its own rungs, so its result does not depend on the other speeds
     of the call. First rungs and orders, per speed: the first rung is START / 2 steps, or
-    the first rung whose balanced generator size scale * span / (omega N) is at most FIRST_RHO
-    (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of element models
-    and cost the most squarings), at most FIRST_MAX (FIRST_MAX / 2 where the generator
-    there is at most CLEAN_RHO). With both orders, a speed whose first rung has at least
-    STIFF steps takes order 4 (on the stiff slider-crank its error is smaller than order
-    6's at the same steps), the others order 6 (:meth:`orders_at`).
+    the first rung whose balanced generator size scale * span / (omega N) is at most
+    FIRST_RHO (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of
+    element models and cost the most squarings), at most FIRST_MAX, halved while the
+    generator at the halved rung is at most CLEAN_RHO, down to CLEAN_MIN. With both
+    orders, a speed whose first rung has at least STIFF steps takes order 4 (on the stiff
+    slider-crank its error is smaller than order 6's at the same steps), the others
+    order 6 (:meth:`orders_at`).
 
     When the coefficients have a half-period symmetry (:func:`half_period_signs`), the
     steps cover half a period and the monodromy is ``(P Phi(T/2))^2``: the same step
@@ -189,15 +190,17 @@ class MagnusLadder:
     LARGEST = 4096  # steps
     STIFF = 16  # first-rung steps from which "both orders" takes order 4
     FIRST_RHO = 32.0  # largest balanced generator size scale * span / (omega steps) of a first rung
-    # Most steps of a first rung: FIRST_MAX, or half of it where the generator there is at
-    # most CLEAN_RHO. On the slider-crank with 8 and 16 rod elements (generators of 88-177
-    # and 353-707 at 64 steps over 150-300 rad/s) the log|mu| errors of order 4 against
-    # 2048 steps fall cleanly from 64 steps (1.2e-8-1.4e-8, then 2e-10-2.5e-9 at 128), so
-    # they certify at the first comparison of 64 and 128 steps; with 32 elements
-    # (1413-2827 at 64 steps) they are erratic up to 512 steps (3.8e-6 at 64, 8.5e-8 at
-    # 128, 4.7e-7 at 256, 5.9e-8 at 512), so its first comparison starts at 128.
+    # Most steps of a first rung: FIRST_MAX, halved while the generator at the halved rung
+    # is at most CLEAN_RHO, down to CLEAN_MIN. On the slider-crank with 2-16 rod elements
+    # (generators of 11-22 ... 707-1413 at 32 steps over 150-300 rad/s) the log|mu| errors
+    # of order 4 against 2048 steps fall cleanly from 32 steps (2.4e-7-8.3e-6 at 32,
+    # 8e-10-7.6e-8 at 64, 2e-10-2.8e-9 at 128; at 16 steps 3e-6-2.9e-4), so they are
+    # compared from 32 steps; with 32 elements (1413-2827 at 64 steps) they are erratic up
+    # to 512 steps (3.4e-7 at 32, 3.8e-6 at 64, 8.5e-8 at 128, 4.7e-7 at 256, 5.9e-8 at
+    # 512), so its first comparison starts at 128.
     FIRST_MAX = 128
     CLEAN_RHO = 1024.0
+    CLEAN_MIN = 32
     TERMS_ENTRIES = 4e7  # most entries of one rung's terms (320 MB), which bounds its steps
 
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
@@ -233,7 +236,7 @@ class MagnusLadder:
         c[kernel.CFG_LARGEST4], c[kernel.CFG_LARGEST6] = self.max_steps(4), self.max_steps(6)
         c[kernel.CFG_TOL], c[kernel.CFG_FLOOR] = STABILITY_TOL, ERROR_FLOOR
         c[kernel.CFG_ORDERS] = 0 if len(self.orders) == 2 else self.orders[0]
-        c[kernel.CFG_CLEAN_RHO] = self.CLEAN_RHO
+        c[kernel.CFG_CLEAN_RHO], c[kernel.CFG_CLEAN_MIN] = self.CLEAN_RHO, self.CLEAN_MIN
         return c
 
     def cost(self, omegas: np.ndarray, steps, order: int = 6) -> np.ndarray:
@@ -248,8 +251,8 @@ class MagnusLadder:
 
     def first_rungs(self, omegas: np.ndarray, order: int = 6) -> np.ndarray:
         """Steps (S,) of a speed's first rung: START / 2, or more where the balanced step
-        generator would exceed FIRST_RHO, up to FIRST_MAX (or FIRST_MAX / 2 where the
-        generator there is at most CLEAN_RHO)."""
+        generator would exceed FIRST_RHO, up to FIRST_MAX (halved while the generator at
+        the halved rung is at most CLEAN_RHO, down to CLEAN_MIN)."""
         config = self.config()
         return np.array([kernel.first_rung(config, w, order) for w in np.atleast_1d(np.asarray(omegas, float))],
                         dtype=np.int64)

@@ -44,8 +44,8 @@ _PRODUCTS_4, _PRODUCTS_6 = 6.0, 12.0  # products per step besides the squarings 
 
 # config layout (float64 array)
 CFG_SCALE, CFG_SPAN, CFG_START4, CFG_START6, CFG_STIFF, CFG_FIRST_RHO, CFG_FIRST_MAX = 0, 1, 2, 3, 4, 5, 6
-CFG_LARGEST4, CFG_LARGEST6, CFG_TOL, CFG_FLOOR, CFG_ORDERS, CFG_CLEAN_RHO = 7, 8, 9, 10, 11, 12
-CONFIG_SIZE = 13  # CFG_ORDERS: 4 or 6 (that order only) or 0 (both, chosen per speed)
+CFG_LARGEST4, CFG_LARGEST6, CFG_TOL, CFG_FLOOR, CFG_ORDERS, CFG_CLEAN_RHO, CFG_CLEAN_MIN = 7, 8, 9, 10, 11, 12, 13
+CONFIG_SIZE = 14  # CFG_ORDERS: 4 or 6 (that order only) or 0 (both, chosen per speed)
 LEVELS = 16  # rungs of 1, 2, 4, ... 2^15 steps per order in a terms cache (new_terms_cache)
 
 
@@ -153,11 +153,11 @@ def rung_cost(scale, span, omega, steps, order, d):
 @njit(cache=True)
 def first_rung(config, omega, order):
     """Steps of a speed's first rung of ``order``: START / 2, or more where the balanced
-    step generator would exceed FIRST_RHO, up to FIRST_MAX, or up to FIRST_MAX / 2 where
-    the generator of that rung is at most CLEAN_RHO."""
+    step generator would exceed FIRST_RHO, up to FIRST_MAX, halved while the generator at
+    the halved rung is at most CLEAN_RHO, down to CLEAN_MIN."""
     size = config[CFG_SCALE] * config[CFG_SPAN] / omega  # balanced generator size of a single step over the span
     most = config[CFG_FIRST_MAX]
-    if size / (0.5 * most) <= config[CFG_CLEAN_RHO]:
+    while 0.5 * most >= config[CFG_CLEAN_MIN] and size / (0.5 * most) <= config[CFG_CLEAN_RHO]:
         most *= 0.5
     rho = min(max(size / config[CFG_FIRST_RHO], 1.0), most)
     steps = 1 << int(np.ceil(np.log2(rho)))
