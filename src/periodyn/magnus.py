@@ -55,7 +55,7 @@ def magnus_terms(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray) -
     balancing scale a = sqrt(max ||M^-1 K_0||_inf) (1/s), which brings the stiff blocks to
     the same size (a similarity: the transition matrix of (q, q') is D^-1 Phi D,
     D = diag(a I, I), with the same eigenvalues)."""
-    terms, a = kernel.balanced_terms(*(np.ascontiguousarray(X, dtype=float) for X in (mass, damping, stiffness)))
+    terms, a = kernel.balanced_terms(*(np.ascontiguousarray(X, dtype=float) for X in (mass, damping, stiffness)), 0.0)
     return terms, float(a)
 
 
@@ -169,7 +169,8 @@ class MagnusLadder:
     verdict is clear) and the verdict cannot flip, ``|G_N - STABILITY_TOL| > error``;
     otherwise (also when the multipliers overflow: at low speeds the coarse steps span
     many vibration periods) N is doubled while the estimated cost stays within the
-    speed's budget (and N <= LARGEST, fewer for large models: :meth:`max_steps`).
+    speed's budget (and N <= LARGEST; rungs above :meth:`kept_steps` build their terms
+    block by block).
 
     Each speed climbs its own rungs, so its result does not depend on the other speeds
     of the call. First rungs and orders, per speed: the first rung is START / 2 steps, or
@@ -223,7 +224,7 @@ class MagnusLadder:
         half a period, term p is divided by 2^p so that the kernel, given twice the speed,
         takes steps of span / (omega steps) with the right matrix."""
         terms, a = kernel.rung_terms(self._rows, self.n, *self.powers, int(steps), order // 2, self.span,
-                                     self.signs is not None)
+                                     self.signs is not None, 0, int(steps), 0.0)
         return terms, float(a)
 
     def config(self) -> np.ndarray:
@@ -233,7 +234,8 @@ class MagnusLadder:
         c[kernel.CFG_SCALE], c[kernel.CFG_SPAN] = self.scale, self.span
         c[kernel.CFG_START4], c[kernel.CFG_START6], c[kernel.CFG_STIFF] = self.START[4], self.START[6], self.STIFF
         c[kernel.CFG_FIRST_RHO], c[kernel.CFG_FIRST_MAX] = self.FIRST_RHO, self.FIRST_MAX
-        c[kernel.CFG_LARGEST4], c[kernel.CFG_LARGEST6] = self.max_steps(4), self.max_steps(6)
+        c[kernel.CFG_KEPT4], c[kernel.CFG_KEPT6] = self.kept_steps(4), self.kept_steps(6)
+        c[kernel.CFG_LARGEST] = self.LARGEST
         c[kernel.CFG_TOL], c[kernel.CFG_FLOOR] = STABILITY_TOL, ERROR_FLOOR
         c[kernel.CFG_ORDERS] = 0 if len(self.orders) == 2 else self.orders[0]
         c[kernel.CFG_CLEAN_RHO], c[kernel.CFG_CLEAN_MIN] = self.CLEAN_RHO, self.CLEAN_MIN
@@ -257,9 +259,10 @@ class MagnusLadder:
         return np.array([kernel.first_rung(config, w, order) for w in np.atleast_1d(np.asarray(omegas, float))],
                         dtype=np.int64)
 
-    def max_steps(self, order: int) -> int:
-        """Most steps of a rung of ``order``: LARGEST, or fewer (a power of 2) where the
-        rung's terms would exceed TERMS_ENTRIES."""
+    def kept_steps(self, order: int) -> int:
+        """Most steps of a rung of ``order`` whose terms are kept for all speeds: LARGEST,
+        or fewer (a power of 2) where the rung's terms would exceed TERMS_ENTRIES; larger
+        rungs build their terms block by block for each speed."""
         per_step = (order // 2) * (2 * self.n) ** 2 * max(self.powers)
         return int(min(self.LARGEST, 2 ** np.floor(np.log2(max(2.0, self.TERMS_ENTRIES / per_step)))))
 

@@ -55,7 +55,7 @@ def test_balanced_terms_equal_the_numpy_twin(crank):
     g, n = 5, 4
     mass = rng.standard_normal((g, n, n)) + 4 * np.eye(n)
     damping, stiffness = rng.standard_normal((g, n, n, 2)), rng.standard_normal((g, n, n, 3))
-    got, a = kernel.balanced_terms(mass, damping, stiffness)
+    got, a = kernel.balanced_terms(mass, damping, stiffness, 0.0)
     want, b = balanced_terms_twin(mass, damping, stiffness)
     assert a == pytest.approx(b, rel=1e-14)
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())
@@ -63,7 +63,7 @@ def test_balanced_terms_equal_the_numpy_twin(crank):
 
 def test_singular_mass_gives_nan_terms_not_an_exception():
     mass = np.zeros((2, 2, 2))
-    terms, _ = kernel.balanced_terms(mass, np.ones((2, 2, 2, 1)), np.ones((2, 2, 2, 1)))
+    terms, _ = kernel.balanced_terms(mass, np.ones((2, 2, 2, 1)), np.ones((2, 2, 2, 1)), 0.0)
     assert np.isnan(terms[:, :, 2:]).all()
 
 
@@ -77,9 +77,15 @@ def test_rung_terms_equal_basis_product_and_twin(crank, points, halve):
     if halve:
         want = want / (2.0 ** np.arange(want.shape[0]))[:, None, None, None]
     Pc, Pk = (X.shape[-1] for X in _spectra(crank)[1:])
-    got, a = kernel.rung_terms(np.ascontiguousarray(stacked.rows), crank.n, Pc, Pk, steps, points, span, halve)
+    rows = np.ascontiguousarray(stacked.rows)
+    got, a = kernel.rung_terms(rows, crank.n, Pc, Pk, steps, points, span, halve, 0, steps, 0.0)
     assert a == pytest.approx(b, rel=1e-12)
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())
+    # a block of the steps with a given balancing scale: those steps' Gauss points, rescaled
+    block, _ = kernel.rung_terms(rows, crank.n, Pc, Pk, steps, points, span, halve, 3, 4, 2 * b)
+    D = np.diag(np.r_[np.full(crank.n, 2.0), np.ones(crank.n)])  # y = (2 a q, q') instead of (a q, q')
+    np.testing.assert_allclose(block, D @ want[:, 3 * points: 7 * points] @ np.linalg.inv(D), rtol=0,
+                               atol=1e-12 * np.abs(want).max())
 
 
 @pytest.mark.parametrize("builder", [lambda: periodyn.examples.slider_crank(damping=0.02, samples=32),
@@ -92,6 +98,40 @@ def test_rung_moduli_equal_the_numpy_twin(builder):
         lam, want = moduli_twin(ladder.terms(steps, order)[0], w, order // 2, ladder.signs)
         np.testing.assert_allclose(mod[0], want, rtol=0, atol=1e-14 * want.max())
         np.testing.assert_allclose(exps[0], lam, rtol=0, atol=1e-14 * np.abs(lam).max())  # same values, same order
+
+
+@pytest.mark.parametrize("builder", [lambda: periodyn.examples.slider_crank(damping=0.02, samples=32),
+                                     lambda: periodyn.examples.cardan_shaft(samples=32)])
+def test_streamed_rung_equals_the_kept_rung(builder):
+    """A rung whose terms are built block by block (blocks of 8 and 24 of 64 steps, the
+    ladder's balancing scale) gives the kept rung's multiplier moduli to round-off of the
+    largest (the most damped modes' multipliers, near 1e-17 of it, are round-off)."""
+    model = builder()
+    ladder = MagnusLadder(*_spectra(model))
+    d = 2 * model.n
+    for order, w in ((4, 220.0), (6, 300.0)):
+        _, want = ladder._moduli(np.array([w]), 64, order)
+        for block in (8, 24):
+            exps, mod, Phi = np.empty(d, complex), np.empty(d), np.empty((d, d))
+            kernel.streamed_moduli(ladder._rows, model.n, *ladder.powers, 64, order // 2, ladder.span, ladder.scale,
+                                   block, w, ladder._signs(), Phi, exps, mod)
+            np.testing.assert_allclose(mod, want[0], rtol=0, atol=1e-12 * want.max())
+
+
+def test_rungs_beyond_the_kept_terms_climb_streamed():
+    """With room for the terms of 16 steps only, the ladder still climbs to its rungs of
+    32-128 steps (built block by block) and gives the same steps, verdicts and exponents."""
+    model = periodyn.examples.slider_crank(damping=0.02, samples=32)
+    speeds = np.array([150.0, 230.0, 300.0])
+    full = MagnusLadder(*_spectra(model))
+    small = MagnusLadder(*_spectra(model))
+    small.TERMS_ENTRIES = 16 * 3 * (2 * model.n) ** 2 * max(small.powers)
+    assert small.kept_steps(6) == 16 and small.kept_steps(4) == 16
+    want, got = full.solve(speeds, np.inf), small.solve(speeds, np.inf)
+    assert (got.steps > 16).all() and got.accepted.all()
+    np.testing.assert_array_equal(got.steps, want.steps)
+    moduli = [np.sort(np.exp(e.exponents.real * (2 * np.pi / speeds)[:, None])) for e in (got, want)]
+    np.testing.assert_allclose(moduli[0], moduli[1], rtol=0, atol=1e-12 * moduli[1].max())
 
 
 def test_each_speed_climbs_alone(crank):

@@ -3,7 +3,7 @@
 * ``balanced_terms``: the terms ``A = sum_p omega^p terms[p]`` of the balanced state
   matrix of ``y' = A y``, ``y = (a q, q')``, from M, C, K at g angles.
 * ``rung_terms``: those terms at the Gauss angles of a rung (``steps`` equal steps of
-  2 or 3 Gauss points over the ladder's span) from the stacked real spectra
+  2 or 3 Gauss points over the ladder's span, or a block of them) from the stacked real spectra
   ``rows`` (2K+1, width): the cosine/sine rows of M (n, n), C (n, n, Pc) and K (n, n, Pk)
   flattened in C order and placed side by side (:class:`periodyn.spectra.StackedSpectra`).
 * ``rung_cost`` / ``first_rung`` / ``plan``: the ladder's cost model (estimated seconds
@@ -44,16 +44,19 @@ _PRODUCTS_4, _PRODUCTS_6 = 6.0, 12.0  # products per step besides the squarings 
 
 # config layout (float64 array)
 CFG_SCALE, CFG_SPAN, CFG_START4, CFG_START6, CFG_STIFF, CFG_FIRST_RHO, CFG_FIRST_MAX = 0, 1, 2, 3, 4, 5, 6
-CFG_LARGEST4, CFG_LARGEST6, CFG_TOL, CFG_FLOOR, CFG_ORDERS, CFG_CLEAN_RHO, CFG_CLEAN_MIN = 7, 8, 9, 10, 11, 12, 13
-CONFIG_SIZE = 14  # CFG_ORDERS: 4 or 6 (that order only) or 0 (both, chosen per speed)
+CFG_KEPT4, CFG_KEPT6, CFG_TOL, CFG_FLOOR, CFG_ORDERS, CFG_CLEAN_RHO, CFG_CLEAN_MIN, CFG_LARGEST = range(7, 15)
+CONFIG_SIZE = 15  # CFG_ORDERS: 4 or 6 (that order only) or 0 (both, chosen per speed)
+# CFG_KEPT4/6: most steps of a rung whose terms are kept in the cache (larger rungs are
+# built block by block per speed: streamed_moduli); CFG_LARGEST: most steps of any rung
+STREAM_BLOCK = 64  # steps whose terms a rung beyond the kept ones builds at a time (at most)
 LEVELS = 16  # rungs of 1, 2, 4, ... 2^15 steps per order in a terms cache (new_terms_cache)
 
 
 @njit(cache=True)
-def balanced_terms(mass, damping, stiffness):
+def balanced_terms(mass, damping, stiffness, scale):
     """Terms (max(Pc, Pk), g, 2n, 2n) of the balanced state matrix and the balancing
-    scale a = sqrt(max ||M^-1 K_0||_inf) (1/s, 1 if that is 0; NaN terms at angles where
-    the mass matrix is singular).
+    scale: ``scale`` where positive, else a = sqrt(max ||M^-1 K_0||_inf) over the g points
+    (1/s, 1 if that is 0); NaN terms at angles where the mass matrix is singular.
 
     mass (g, n, n), damping (g, n, n, Pc), stiffness (g, n, n, Pk) C-contiguous, the last
     axis holding the coefficients of powers of omega."""
@@ -80,7 +83,7 @@ def balanced_terms(mass, damping, stiffness):
             for c in range(n):
                 row += abs(MinvK[i, r, c * Pk])
             top = max(top, row)
-    a = np.sqrt(top) if top > 0 else 1.0
+    a = scale if scale > 0 else (np.sqrt(top) if top > 0 else 1.0)
     terms = np.zeros((P, g, 2 * n, 2 * n))
     for i in range(g):
         for r in range(n):
@@ -94,18 +97,18 @@ def balanced_terms(mass, damping, stiffness):
 
 
 @njit(cache=True)
-def rung_terms(rows, n, Pc, Pk, steps, points, span, halve):
-    """:func:`balanced_terms` at the ``points`` Gauss angles of ``steps`` equal steps over
-    [0, span] from the stacked rows (2K+1, width) (module docstring); with ``halve``
-    (half-period symmetric coefficients: the kernel is given twice the speed) term p is
-    divided by 2^p."""
+def rung_terms(rows, n, Pc, Pk, steps, points, span, halve, first, count, scale):
+    """:func:`balanced_terms` (with ``scale``) at the ``points`` Gauss angles of steps
+    first ... first + count - 1 of ``steps`` equal steps over [0, span] from the stacked
+    rows (2K+1, width) (module docstring); with ``halve`` (half-period symmetric
+    coefficients: the kernel is given twice the speed) term p is divided by 2^p."""
     K = (rows.shape[0] - 1) // 2
     nodes = GAUSS_NODES_3 if points == 3 else GAUSS_NODES_2
-    g = steps * points
+    g = count * points
     basis = np.empty((g, 2 * K + 1))
-    for s in range(steps):
+    for s in range(count):
         for j in range(points):
-            theta = span * ((s + nodes[j]) / steps)
+            theta = span * ((first + s + nodes[j]) / steps)
             row = basis[s * points + j]
             row[0] = 1.0
             c1, s1 = np.cos(theta), np.sin(theta)
@@ -119,7 +122,7 @@ def rung_terms(rows, n, Pc, Pk, steps, points, span, halve):
     mass = np.ascontiguousarray(values[:, :nm]).reshape(g, n, n)
     damping = np.ascontiguousarray(values[:, nm: nm + nc]).reshape(g, n, n, Pc)
     stiffness = np.ascontiguousarray(values[:, nm + nc:]).reshape(g, n, n, Pk)
-    terms, a = balanced_terms(mass, damping, stiffness)
+    terms, a = balanced_terms(mass, damping, stiffness, scale)
     if halve:
         factor = 1.0
         for p in range(1, terms.shape[0]):
@@ -192,17 +195,48 @@ def plan(config, omegas, d, out_order, out_first, out_cost):
 @njit(cache=True, error_model="numpy")
 def rung_moduli(terms, omega, points, signs, A, Phi, exps, moduli):
     """One rung at one speed: the monodromy Phi (d, d) from the rung's terms (A: scratch
-    of the shape of terms[0]), its exponents exps (d,) (principal values, rad/s, sorted by
-    real then imaginary part; NaN when Phi is not finite or singular) and the sorted
-    multiplier moduli (d,) exp(Re lambda T). With signs (n,) (half-period symmetry; empty: none) the terms span
+    of the shape of terms[0]), its exponents exps (d,) and sorted multiplier moduli (d,)
+    (:func:`_moduli`). With signs (n,) (half-period symmetry; empty: none) the terms span
     half a period and Phi = (P Phi(T/2))^2."""
-    d = Phi.shape[0]
+    w = 2.0 * omega if signs.shape[0] > 0 else omega
+    state_matrices(terms, w, A)
+    _magnus_steps(A, 2.0 * np.pi / (w * (terms.shape[1] // points)), Phi, points)
+    _moduli(Phi, omega, signs, exps, moduli)
+
+
+@njit(cache=True, error_model="numpy")
+def streamed_moduli(rows, n, Pc, Pk, steps, points, span, scale, block, omega, signs, Phi, exps, moduli):
+    """:func:`rung_moduli` for a rung of ``steps`` steps whose terms are built ``block``
+    steps at a time for this speed alone, with the balancing scale ``scale`` throughout
+    (rungs too large to keep: memory stays that of ``block`` steps; building the terms
+    costs a few per cent of the steps for large models)."""
+    d = 2 * n
     half = signs.shape[0] > 0
     w = 2.0 * omega if half else omega
-    state_matrices(terms, w, A)
-    steps = terms.shape[1] // points
-    _magnus_steps(A, 2.0 * np.pi / (w * steps), Phi, points)
-    if half:
+    h = 2.0 * np.pi / (w * steps)
+    Phi[:, :] = 0.0
+    for i in range(d):
+        Phi[i, i] = 1.0
+    part, product = np.empty((d, d)), np.empty((d, d))
+    for first in range(0, steps, block):
+        count = min(block, steps - first)
+        terms = rung_terms(rows, n, Pc, Pk, steps, points, span, half, first, count, scale)[0]
+        A = np.empty(terms.shape[1:])
+        state_matrices(terms, w, A)
+        _magnus_steps(A, h, part, points)
+        _matmul(part, Phi, product)
+        Phi[:, :] = product
+    _moduli(Phi, omega, signs, exps, moduli)
+
+
+@njit(cache=True, error_model="numpy")
+def _moduli(Phi, omega, signs, exps, moduli):
+    """Exponents exps (d,) (principal values, rad/s, sorted by real then imaginary part;
+    NaN when the monodromy is not finite or singular) and sorted multiplier moduli (d,)
+    exp(Re lambda T) of the transition matrix Phi (d, d) over the ladder's span, which
+    becomes the monodromy: Phi itself, or (P Phi)^2 with signs (n,) (half-period symmetry)."""
+    d = Phi.shape[0]
+    if signs.shape[0] > 0:
         n = d // 2
         for i in range(d):
             Phi[i] *= signs[i % n]
@@ -282,7 +316,8 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
     mod = np.empty(d)
     last = np.empty((S, d))
     for order in (6, 4):
-        largest = int(config[CFG_LARGEST6 if order == 6 else CFG_LARGEST4])
+        largest = int(config[CFG_LARGEST])
+        kept = int(config[CFG_KEPT6 if order == 6 else CFG_KEPT4])
         richardson = 2.0 ** (order - 1) if order == 6 else np.inf
         points = order // 2
         active = np.zeros(S, np.bool_)
@@ -298,10 +333,11 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
             for s in range(S):
                 if active[s]:
                     steps = min(steps, rung[s])
+            in_cache = steps <= kept
             slot = (0 if order == 6 else LEVELS) + int(np.rint(np.log2(steps)))
-            if cache[slot].shape[0] == 0:
-                cache[slot] = rung_terms(rows, n, Pc, Pk, steps, points, span, signs.shape[0] > 0)[0]
-            terms = cache[slot]
+            if in_cache and cache[slot].shape[0] == 0:
+                cache[slot] = rung_terms(rows, n, Pc, Pk, steps, points, span, signs.shape[0] > 0, 0, steps, 0.0)[0]
+            terms = cache[slot] if in_cache else np.empty((0, 0, 0, 0))
             A = np.empty(terms.shape[1:])
             for s in range(S):
                 if not active[s] or rung[s] != steps:
@@ -309,7 +345,11 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
                 w = omegas[s]
                 spent[s] += pending[s]
                 pending[s] = rung_cost(scale, span, w, 2 * steps, order, d)
-                rung_moduli(terms, w, points, signs, A, Phi, e_x, mod)
+                if in_cache:
+                    rung_moduli(terms, w, points, signs, A, Phi, e_x, mod)
+                else:
+                    streamed_moduli(rows, n, Pc, Pk, steps, points, span, scale, min(kept, STREAM_BLOCK), w, signs,
+                                    Phi, e_x, mod)
                 top = np.log(mod[d - 1])
                 spread = 0.0
                 for i in range(d):
