@@ -10,7 +10,9 @@
 2. With --sweep: periodyn.sweep of 1000 speeds (fewer for the large model), default
    options (stability "auto"), on --workers processes, speeds/s (a cold start included
    when run first).
-3. With --per-speed: stability alone, ms per speed on one core, of the certified Magnus
+3. With --errors: the ladder's certified error against the true error of log max|mu|
+   (fine Magnus references) per model, and the error of the fixed 128-step method.
+4. With --per-speed: stability alone, ms per speed on one core, of the certified Magnus
    ladder as "auto" uses it (both orders, chosen per speed), of order 6 alone, of order
    4 alone (the previous ladder's integrator) and of dense Hill at m = 12 (stacked),
    best of interleaved rounds on the same speeds, with the ladders' steps and whether
@@ -18,6 +20,7 @@
    shaft).
 
 Run: python benchmarks/bench_stability_auto.py [--budget 3] [--quick] [--sweep] [--workers 2] [--per-speed]
+     [--errors [--large]]
 """
 
 import os
@@ -36,6 +39,7 @@ from periodyn.examples.slider_crank import first_bending_frequency, slider_crank
 from periodyn.config import load_sweep_file, project_root  # noqa: E402
 from periodyn.hill import _shift_frequencies, dense_exponents_batch, method_costs  # noqa: E402
 from periodyn.linearize import omega_split  # noqa: E402
+from periodyn.kernels.magnus_ladder import streamed_moduli  # noqa: E402
 from periodyn.magnus import MagnusLadder  # noqa: E402
 
 METHODS = ("dense", "sparse", "magnus", "auto")
@@ -150,6 +154,48 @@ def per_speed(rounds: int = 3, m: int = 12) -> None:
               f"{steps:<33}{used:<10}{same}/{int(certified.sum())} certified", flush=True)
 
 
+def certified_errors(large: bool = False) -> None:
+    """The ladder's certified error against the true error of log max|mu| (a fine Magnus
+    reference of the order that converges on the model), and the error of the fixed-step
+    method "magnus" (order 4, 128 steps, no estimate) at the same speeds."""
+    w0 = periodyn.examples.pendulum().metadata["omega0"]
+    cardan = periodyn.examples.cardan_shaft()
+    wb = cardan.metadata["omega_b"]
+    cases = [("pendulum", periodyn.examples.pendulum(samples=64), np.linspace(0.02, 1.4, 40) * w0, 6, 2048),
+             ("cardan", cardan, np.geomspace(0.003, 0.999, 40) * wb, 6, 4096)]
+    # order 6 breaks down on the stiffest slider-cranks (NaN at 4096 steps with 32 rod elements)
+    cases += [(f"slider-crank x{el}", scaled_slider_crank(el), np.linspace(150.0, 300.0, 12), 4 if el > 16 else 6,
+               2048 if el > 16 else 4096) for el in ((2, 4, 8, 16, 32) if large else (2, 4, 8, 16))]
+    def growth(ladder, w, steps, order):
+        """log max|mu| (S,) with ``steps`` steps of ``order``, terms built 64 steps at a time."""
+        d, out = 2 * ladder.n, np.empty(w.size)
+        exps, mod, Phi = np.empty(d, complex), np.empty(d), np.empty((d, d))
+        for i, omega in enumerate(w):
+            streamed_moduli(ladder._rows, ladder.n, *ladder.powers, steps, order // 2, ladder.span, ladder.scale, 64,
+                            float(omega), ladder._signs(), Phi, exps, mod)
+            out[i] = np.log(mod[-1])
+        return out
+
+    print("\nladder (auto's Magnus) against a fine reference; log max|mu| per period, one core")
+    print(f"{'model':<18}{'speeds':>7}{'certified':>10}{'ms/speed':>10}{'steps med/max':>15}{'worst true/est':>16}"
+          f"{'max true':>10}{'fixed 128':>11}")
+    for name, model, w, ref_order, ref_steps in cases:
+        spectra = model._power_spectra[:3]
+        ladder = MagnusLadder(*spectra)
+        reference = growth(ladder, w, ref_steps, ref_order)
+        ladder.solve(w[:1], np.inf)  # warm-up
+        t0 = time.perf_counter()
+        est = ladder.solve(w, np.inf)
+        seconds = time.perf_counter() - t0
+        top = est.exponents.real.max(axis=1) * 2 * np.pi / w
+        true = np.abs(top - reference)
+        ok = est.accepted
+        fixed = np.abs(growth(ladder, w, 128 if ladder.signs is None else 64, 4) - reference)  # 128 per period
+        print(f"{name:<18}{w.size:7d}{ok.sum():10d}{1e3 * seconds / w.size:10.2f}"
+              f"{int(np.median(est.steps)):>9d}/{est.steps.max():<5d}{np.max(true[ok] / est.error[ok]):16.2f}"
+              f"{true[ok].max():10.1e}{np.nanmax(fixed):11.1e}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--budget", type=float, default=3.0, help="seconds per method and case")
@@ -157,9 +203,14 @@ def main():
     ap.add_argument("--sweep", action="store_true", help="also time periodyn.sweep of 1000 speeds")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--per-speed", action="store_true", help="only the stability-alone table per speed")
+    ap.add_argument("--errors", action="store_true", help="only the ladder's certified vs true errors")
+    ap.add_argument("--large", action="store_true", help="with --errors: also the 32-element slider-crank (minutes)")
     args = ap.parse_args()
     if args.per_speed:
         per_speed()
+        return
+    if args.errors:
+        certified_errors(args.large)
         return
     if args.sweep:
         sweep_rates(args.workers)
