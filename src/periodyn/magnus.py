@@ -177,10 +177,12 @@ class MagnusLadder:
     the first rung whose balanced generator size scale * span / (omega N) is at most
     FIRST_RHO (:meth:`first_rungs`: coarser rungs do not resolve the stiff modes of
     element models and cost the most squarings), at most FIRST_MAX, halved while the
-    generator at the halved rung is at most CLEAN_RHO, down to CLEAN_MIN. With both
-    orders, a speed whose first rung has at least STIFF steps takes order 4 (on the stiff
-    slider-crank its error is smaller than order 6's at the same steps), the others
-    order 6 (:meth:`orders_at`).
+    generator at the halved rung is at most CLEAN_RHO, down to CLEAN_MIN. A speed whose
+    first rung stays at FIRST_MAX (its generator at FIRST_MAX / 2 steps above CLEAN_RHO,
+    where errors were erratic) needs two successive comparisons within tolerance and
+    claims the larger of their estimates. With both orders, a speed whose first rung has
+    at least STIFF steps takes order 4 (on the stiff slider-crank its error is smaller
+    than order 6's at the same steps), the others order 6 (:meth:`orders_at`).
 
     When the coefficients have a half-period symmetry (:func:`half_period_signs`), the
     steps cover half a period and the monodromy is ``(P Phi(T/2))^2``: the same step

@@ -7,7 +7,7 @@ import pytest
 import periodyn
 from periodyn.kernels import magnus_ladder as kernel
 from periodyn.kernels.floquet import magnus_monodromies
-from periodyn.magnus import MagnusLadder, gauss_angles
+from periodyn.magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
 from periodyn.spectra import StackedSpectra, real_basis
 
 
@@ -132,6 +132,25 @@ def test_rungs_beyond_the_kept_terms_climb_streamed():
     np.testing.assert_array_equal(got.steps, want.steps)
     moduli = [np.sort(np.exp(e.exponents.real * (2 * np.pi / speeds)[:, None])) for e in (got, want)]
     np.testing.assert_allclose(moduli[0], moduli[1], rtol=0, atol=1e-12 * moduli[1].max())
+
+
+def test_speeds_in_the_erratic_regime_need_two_comparisons(crank):
+    """A speed whose first rung stays at FIRST_MAX (here every speed: no halving, and the
+    generator asks for more steps) is certified only by two successive comparisons, and
+    claims the larger of their estimates."""
+    ladder = MagnusLadder(*_spectra(crank))
+    ladder.FIRST_RHO, ladder.CLEAN_RHO = 0.5, 0.0
+    w = np.array([230.0])
+    assert ladder.first_rungs(w, 4)[0] == ladder.FIRST_MAX == 128
+    est = ladder.solve(w, np.inf)
+    assert est.accepted[0] and est.order[0] == 4 and est.steps[0] == 512
+    mods = {N: ladder._moduli(w, N, 4)[1][0] for N in (128, 256, 512)}
+
+    def estimate(coarse, fine):
+        a, b = mods[coarse], mods[fine]
+        return max(abs(np.log(b[-1] / a[-1])), np.abs(b - a).max() / b[-1], ERROR_FLOOR)
+
+    assert est.error[0] == pytest.approx(max(estimate(128, 256), estimate(256, 512)), rel=1e-9)
 
 
 def test_each_speed_climbs_alone(crank):

@@ -311,6 +311,9 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
     rung = np.zeros(S, np.int64)
     first_cost = np.empty(S)
     plan(config, omegas, d, order_of, rung, first_cost)
+    # speeds whose first rung stays at FIRST_MAX (the generator there above CLEAN_RHO: the
+    # erratic regime) are certified by two successive comparisons, the larger estimate claimed
+    guarded = rung >= config[CFG_FIRST_MAX]
     Phi = np.empty((d, d))
     e_x = np.empty(d, np.complex128)
     mod = np.empty(d)
@@ -321,7 +324,7 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
         richardson = 2.0 ** (order - 1) if order == 6 else np.inf
         points = order // 2
         active = np.zeros(S, np.bool_)
-        spent, pending, e_prev = np.zeros(S), np.zeros(S), np.full(S, np.nan)
+        spent, pending, e_prev, err_prev = np.zeros(S), np.zeros(S), np.full(S, np.nan), np.full(S, np.nan)
         for s in range(S):
             if order_of[s] == order and first_cost[s] <= budget[s]:
                 active[s] = True
@@ -358,8 +361,15 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
                 r = e_prev[s] / e
                 err = 2.0 * e / (min(r, 2.0**order) - 1.0) if r >= richardson else e
                 err = _max_nan(err, floor)
+                two = True
+                if guarded[s]:
+                    both = _max_nan(err, err_prev[s])  # NaN before the second comparison
+                    err_prev[s] = err
+                    two = both == both
+                    if two:
+                        err = both
                 mrg = abs(top - tol)
-                ok = err <= tol * _max_nan(1.0, abs(top)) and mrg > err
+                ok = two and err <= tol * _max_nan(1.0, abs(top)) and mrg > err
                 compared = not np.isnan(last[s, d - 1]) or not np.isfinite(mod[d - 1])
                 if compared:
                     exps[s] = e_x
