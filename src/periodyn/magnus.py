@@ -204,7 +204,7 @@ class MagnusLadder:
     FIRST_MAX = 128
     CLEAN_RHO = 1024.0
     CLEAN_MIN = 32
-    TERMS_ENTRIES = 4e7  # most entries of one rung's terms (320 MB), which bounds its steps
+    TERMS_ENTRIES = 4e7  # most entries of a rung's terms kept for all speeds (320 MB): kept_steps
 
     def __init__(self, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, order: int | None = None):
         if order not in (4, 6, None):

@@ -3,9 +3,12 @@
 * ``balanced_terms``: the terms ``A = sum_p omega^p terms[p]`` of the balanced state
   matrix of ``y' = A y``, ``y = (a q, q')``, from M, C, K at g angles.
 * ``rung_terms``: those terms at the Gauss angles of a rung (``steps`` equal steps of
-  2 or 3 Gauss points over the ladder's span, or a block of them) from the stacked real spectra
-  ``rows`` (2K+1, width): the cosine/sine rows of M (n, n), C (n, n, Pc) and K (n, n, Pk)
-  flattened in C order and placed side by side (:class:`periodyn.spectra.StackedSpectra`).
+  2 or 3 Gauss points over the ladder's span, or a block of them) from the stacked real
+  spectra ``rows`` (2K+1, width): the cosine/sine rows of M (n, n), C (n, n, Pc) and K
+  (n, n, Pk) flattened in C order and placed side by side
+  (:class:`periodyn.spectra.StackedSpectra`).
+* ``rung_moduli`` / ``streamed_moduli``: one rung's monodromy, exponents and multiplier
+  moduli at one speed, from kept terms or from terms built block by block.
 * ``rung_cost`` / ``first_rung`` / ``plan``: the ladder's cost model (estimated seconds
   of a monodromy), first rungs and per-speed orders.
 * ``ladder_climb``: the whole step-doubling climb of many speeds in one call (plan,
