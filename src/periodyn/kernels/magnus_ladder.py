@@ -199,12 +199,12 @@ def plan(config, omegas, d, out_order, out_first, out_cost):
 def rung_moduli(terms, omega, points, signs, A, Phi, exps, moduli):
     """One rung at one speed: the monodromy Phi (d, d) from the rung's terms (A: scratch
     of the shape of terms[0]), its exponents exps (d,) and sorted multiplier moduli (d,)
-    (:func:`_moduli`). With signs (n,) (half-period symmetry; empty: none) the terms span
-    half a period and Phi = (P Phi(T/2))^2."""
+    (:func:`_multiplier_moduli`). With signs (n,) (half-period symmetry; empty: none) the
+    terms span half a period and Phi = (P Phi(T/2))^2."""
     w = 2.0 * omega if signs.shape[0] > 0 else omega
     state_matrices(terms, w, A)
     _magnus_steps(A, 2.0 * np.pi / (w * (terms.shape[1] // points)), Phi, points)
-    _moduli(Phi, omega, signs, exps, moduli)
+    _multiplier_moduli(Phi, omega, signs, exps, moduli)
 
 
 @njit(cache=True, error_model="numpy")
@@ -229,11 +229,11 @@ def streamed_moduli(rows, n, Pc, Pk, steps, points, span, scale, block, omega, s
         _magnus_steps(A, h, part, points)
         _matmul(part, Phi, product)
         Phi[:, :] = product
-    _moduli(Phi, omega, signs, exps, moduli)
+    _multiplier_moduli(Phi, omega, signs, exps, moduli)
 
 
 @njit(cache=True, error_model="numpy")
-def _moduli(Phi, omega, signs, exps, moduli):
+def _multiplier_moduli(Phi, omega, signs, exps, moduli):
     """Exponents exps (d,) (principal values, rad/s, sorted by real then imaginary part;
     NaN when the monodromy is not finite or singular) and sorted multiplier moduli (d,)
     exp(Re lambda T) of the transition matrix Phi (d, d) over the ladder's span, which
@@ -368,7 +368,7 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
                 if guarded[s]:
                     both = _max_nan(err, err_prev[s])  # NaN before the second comparison
                     err_prev[s] = err
-                    two = both == both
+                    two = not np.isnan(both)
                     if two:
                         err = both
                 mrg = abs(top - tol)
