@@ -29,6 +29,11 @@ __all__ = ["campbell", "stability_threshold", "stored_campbell", "FORWARD", "BAC
 
 FORWARD, BACKWARD = "forward", "backward"
 _CHUNK_ENTRIES = 4_000_000      # complex entries of state matrices per eig batch
+#: an eigenvalue within RIGID_TOL times the largest |eigenvalue| of its speed is a rigid-body
+#: (zero-frequency) mode: rounding moves a rigid coordinate's double zero by about
+#: sqrt(eps) |lambda|_max (a 2x2 Jordan block), in any direction, so the sign of its imaginary
+#: part means nothing; 64 sqrt(eps) ~ 1e-6 keeps a factor 64 over that rounding
+RIGID_TOL = 64.0 * float(np.sqrt(np.finfo(float).eps))
 
 
 def _speeds(speeds) -> np.ndarray:
@@ -133,15 +138,29 @@ def _stiffness_lu(K, speed: float):
                          "bearings or use method='dense'") from None
 
 
+def _one_per_mode(lam):
+    """Stationary-frame eigenvalues (S, 2n) with the rigid-body ones (|lambda| <=
+    RIGID_TOL |lambda|_max per speed) set to exactly 0, and the mask (S, 2n) of one
+    eigenvalue per mode: the member with Im >= 0 of each vibrating pair, both real
+    eigenvalues of an overdamped mode, and half of the rigid zeros (a rigid coordinate
+    gives a pair of them), whatever the signs rounding gave them."""
+    rigid = np.abs(lam) <= RIGID_TOL * np.abs(lam).max(axis=1, keepdims=True)
+    lam = np.where(rigid, 0.0, lam)
+    rigid_half = np.cumsum(rigid, axis=1) <= (np.sum(rigid, axis=1, keepdims=True) + 1) // 2
+    return lam, np.where(rigid, rigid_half, lam.imag >= 0.0)
+
+
 def _stationary(lam, fwd, bwd, speeds, frame):
     """One stationary-frame eigenvalue (positive frequency) and whirl per mode pair."""
-    n = lam.shape[1] // 2 if frame == "rotating" else int(np.min(np.sum(lam.imag >= 0.0, axis=1)))
     if frame == "rotating":
+        n = lam.shape[1] // 2
         order = np.argsort(-(fwd - bwd) / (fwd + bwd), axis=1, kind="stable")[:, :n]
         chosen = np.take_along_axis(lam, order, axis=1) + 1j * speeds[:, None]
         forward = chosen.imag >= 0.0
     else:
-        order = np.argsort(-lam.imag, axis=1, kind="stable")[:, :n]
+        lam, keep = _one_per_mode(lam)
+        n = int(np.min(np.sum(keep, axis=1)))
+        order = np.argsort(np.where(keep, -lam.imag, np.inf), axis=1, kind="stable")[:, :n]
         chosen = np.take_along_axis(lam, order, axis=1)
         forward = np.take_along_axis(fwd, order, axis=1) >= np.take_along_axis(bwd, order, axis=1)
     chosen = np.where(chosen.imag < 0.0, chosen.conj(), chosen)
@@ -165,7 +184,10 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
     rotating frame and the dense method. Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
-    ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found; attrs ``frame``, ``rotor``,
+    ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found. A rigid-body
+    mode (an eigenvalue within :data:`RIGID_TOL` of the largest, in the stationary frame)
+    is listed once per pair of zero eigenvalues, with eigenvalue exactly 0 and damping
+    ratio NaN. Attrs ``frame``, ``rotor``,
     ``dense_fallback_speeds`` (speeds the subset solver left to the dense one) and ``threshold_speed``
     (rad/s, the lowest speed where a mode becomes unstable, NaN if none in range; see
     :func:`stability_threshold`). Save it with :func:`periodyn.results.save`."""
@@ -201,10 +223,11 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
                                f"origin, {modes} asked; use method='dense' or fewer modes")
     growth = values.real.max(axis=1)            # over every mode found, kept or not
     values, forward = values[:, :modes], forward[:, :modes]
+    damping_ratio = np.divide(-values.real, np.abs(values), out=np.full(values.shape, np.nan), where=values != 0)
     ds = xr.Dataset(
         {"eigenvalue": (("speed", "mode"), values, {"units": "1/s", "long_name": "eigenvalue (stationary frame)"}),
          "frequency": (("speed", "mode"), values.imag, {"units": "rad/s"}),
-         "damping_ratio": (("speed", "mode"), -values.real / np.abs(values), {"units": "1"}),
+         "damping_ratio": (("speed", "mode"), damping_ratio, {"units": "1"}),
          "whirl": (("speed", "mode"), np.where(forward, FORWARD, BACKWARD).astype(object)),
          "max_real_eigenvalue": ("speed", growth, {"units": "1/s", "long_name": "largest real part of all modes"})},
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(modes),
