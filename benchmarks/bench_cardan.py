@@ -87,8 +87,8 @@ def main():
 
 def certified_errors(model, speeds, m):
     """The Magnus ladder's certified error of log max|mu| (S,) at speeds (as "auto" runs it)."""
-    from periodyn.analysis import SpeedSolver
-    from periodyn.hill import HILL_TIME_FACTOR
+    from periodyn.speeds import SpeedSolver
+    from periodyn.stability.hill import HILL_TIME_FACTOR
 
     solver = SpeedSolver(model, m)
     seconds = np.array([c for _, _, c in solver.hill_methods(speeds)])

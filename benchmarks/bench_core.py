@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 from scipy.optimize import linear_sum_assignment  # noqa: E402
 
 import periodyn  # noqa: E402
-from periodyn.analysis import SpeedSolver  # noqa: E402
+from periodyn.speeds import SpeedSolver  # noqa: E402
 from periodyn.examples.chain import parametric_chain  # noqa: E402
 
 

@@ -34,10 +34,11 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-from periodyn.continuation import continuation  # noqa: E402
+from periodyn.arclength import continuation  # noqa: E402
 from periodyn.nonlinear import ihb  # noqa: E402
 from periodyn.examples.dae_examples import slider_chain_pendulum  # noqa: E402
-from periodyn.nonlinear import integrate, steady_state  # noqa: E402
+from periodyn.numerics.integration import integrate
+from periodyn.numerics.integration import steady_state  # noqa: E402
 from periodyn.nonlinear.ihb_jacobian import FillOrdering  # noqa: E402
 
 

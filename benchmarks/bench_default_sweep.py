@@ -17,8 +17,8 @@ import dataclasses  # noqa: E402
 import time  # noqa: E402
 
 import periodyn  # noqa: E402
-from periodyn.config import load_sweep_file, project_root  # noqa: E402
-from periodyn.sweep import sweep_file  # noqa: E402
+from periodyn.studies.spec import load_sweep_file, project_root  # noqa: E402
+from periodyn.engine.front import sweep_file  # noqa: E402
 
 
 def rate(spec, rounds: int) -> tuple[float, int, str]:

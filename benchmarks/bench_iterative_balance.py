@@ -1,6 +1,6 @@
 """Harmonic balance of the slider-crank with 32 rod elements (n = 64, m = 12: N = 1600 real
 unknowns), 100 speeds over 150-300 rad/s through its resonances, one core: the GMRES path
-(preconditioned with the LU at an earlier speed, :mod:`periodyn.harmonic.batch`) against
+(preconditioned with the LU at an earlier speed, :mod:`periodyn.harmonic.batch_balance`) against
 the direct dense LU of every speed from the same precomputed terms, measured side by side;
 the largest differences of the harmonics and amplitudes relative to each speed's largest,
 the residuals, and the LUs the GMRES path took.
@@ -18,10 +18,10 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-import periodyn.harmonic.batch as batch  # noqa: E402
-from periodyn.analysis import SpeedSolver  # noqa: E402
-from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
-from periodyn.linearize import omega_split  # noqa: E402
+import periodyn.harmonic.batch_balance as batch  # noqa: E402
+from periodyn.speeds import SpeedSolver  # noqa: E402
+from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model  # noqa: E402
+from periodyn.model.linearization import omega_split  # noqa: E402
 
 
 def main():

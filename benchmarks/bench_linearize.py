@@ -27,12 +27,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the project root
 from tests.planar_twins import kernel_sample, motion_twin  # noqa: E402  (the NumPy twin; needs no pytest)
 
 import periodyn  # noqa: E402
-from periodyn.analysis import SpeedSolver  # noqa: E402
-from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
-from periodyn.kernels.assembly import linearize_samples  # noqa: E402
-from periodyn.kinematics import nominal_configurations  # noqa: E402
-from periodyn.linearize import omega_split, rheo_linear  # noqa: E402
-from periodyn.sweep import sweep  # noqa: E402
+from periodyn.speeds import SpeedSolver  # noqa: E402
+from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model  # noqa: E402
+from periodyn.kernels.mechanism.assembly import linearize_samples  # noqa: E402
+from periodyn.model.kinematics import nominal_configurations  # noqa: E402
+from periodyn.model.linearization import omega_split, rheo_linear  # noqa: E402
+from periodyn.engine.front import sweep  # noqa: E402
 
 
 def best_time(fun, repeat: int = 5, number: int = 1) -> float:

@@ -19,8 +19,8 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from periodyn.examples.slider_crank import slider_crank_model  # noqa: E402
-from periodyn.linearize import omega_split  # noqa: E402
+from periodyn.examples.slider_crank_rod import slider_crank_model  # noqa: E402
+from periodyn.model.linearization import omega_split  # noqa: E402
 
 ELEMENTS = (2, 4, 8, 16, 32, 64)
 

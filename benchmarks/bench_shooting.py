@@ -59,9 +59,9 @@ import numpy as np  # noqa: E402
 import periodyn  # noqa: E402
 from periodyn.examples.cardan import cardan_shaft, cardan_shaft_nonlinear  # noqa: E402
 from periodyn.examples.elliptic_pendulum import elliptic_pendulum_model, pendulum_from_elements  # noqa: E402
-from periodyn.examples.slider_crank import slider_crank, slider_crank_nonlinear  # noqa: E402
+from periodyn.examples.slider_crank_rod import slider_crank, slider_crank_nonlinear  # noqa: E402
 from periodyn.periodic import half_range_and_mean  # noqa: E402
-from periodyn.spectra import fourier_coefficients  # noqa: E402
+from periodyn.numerics.spectra import fourier_coefficients  # noqa: E402
 
 W0 = np.sqrt(9.81)  # rad/s, the pendulums' omega0
 #: omega / omega0 away from the resonances (omega0/3, omega0/2, omega0) and instability (0.92-1.02),

@@ -31,7 +31,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
-from periodyn.continuation import continuation  # noqa: E402
+from periodyn.arclength import continuation  # noqa: E402
 from periodyn.examples.dae_examples import duffing, rod_pendulum  # noqa: E402
 
 RTOL, ATOL, TOL = 1e-11, 1e-12, 1e-9

@@ -34,13 +34,13 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-from periodyn.analysis import SpeedSolver  # noqa: E402
-from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model  # noqa: E402
-from periodyn.config import load_sweep_file, project_root  # noqa: E402
-from periodyn.hill import _shift_frequencies, dense_exponents_batch, method_costs  # noqa: E402
-from periodyn.linearize import omega_split  # noqa: E402
-from periodyn.kernels.magnus_ladder import streamed_moduli  # noqa: E402
-from periodyn.magnus import MagnusLadder  # noqa: E402
+from periodyn.speeds import SpeedSolver  # noqa: E402
+from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model  # noqa: E402
+from periodyn.studies.spec import load_sweep_file, project_root  # noqa: E402
+from periodyn.stability.hill import _shift_frequencies, dense_exponents_batch, method_costs  # noqa: E402
+from periodyn.model.linearization import omega_split  # noqa: E402
+from periodyn.kernels.solvers.magnus_ladder import streamed_moduli  # noqa: E402
+from periodyn.stability.magnus import MagnusLadder  # noqa: E402
 
 METHODS = ("dense", "sparse", "magnus", "auto")
 

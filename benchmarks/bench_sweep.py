@@ -30,10 +30,10 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from periodyn.config import load_sweep_file  # noqa: E402
+from periodyn.studies.spec import load_sweep_file  # noqa: E402
 from periodyn.results import load, save  # noqa: E402
 
-engine = importlib.import_module("periodyn.sweep")  # the module (periodyn.sweep may be the re-exported function)
+engine = importlib.import_module("periodyn.engine.front")
 from periodyn.engine.checkpoint import Checkpoint  # noqa: E402
 
 SWEEP_FILE = Path(__file__).resolve().parents[1] / "sweeps" / "pendulum.toml"

@@ -43,8 +43,8 @@ def build(case: str, speeds: int):
     if case == "slider-crank":
         return periodyn.examples.slider_crank(damping=0.02), np.linspace(150.0, 300.0, speeds)
     if case == "slider-crank x32":
-        from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model
-        from periodyn.linearize import omega_split
+        from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
+        from periodyn.model.linearization import omega_split
 
         w1 = first_bending_frequency(slider_crank_model(0.0, rod_elements=32))
         return omega_split(slider_crank_model(2 * 0.02 / w1, rod_elements=32), 64), np.linspace(150.0, 300.0, speeds)
@@ -57,7 +57,7 @@ def child(cases: list[str], speeds: dict[str, int]) -> None:
     import periodyn
 
     try:  # warm-ups start the worker pool (and its fork server) even for their few speeds
-        from periodyn.sweep import ExecutionOptions
+        from periodyn.engine.front import ExecutionOptions
 
         try:
             warm = {"execution": ExecutionOptions(chunk_size=1, eager_workers=True)}

@@ -22,10 +22,10 @@ import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from periodyn.config import load_sweep_file  # noqa: E402
-from periodyn.continuation import confirm_special_points  # noqa: E402
-from periodyn.continuation.truncation import check_truncation  # noqa: E402
-from periodyn.study import ensure_study  # noqa: E402
+from periodyn.studies.spec import load_sweep_file  # noqa: E402
+from periodyn.arclength import confirm_special_points  # noqa: E402
+from periodyn.arclength.truncation import check_truncation  # noqa: E402
+from periodyn.studies.continuation import ensure_study  # noqa: E402
 
 STUDY = os.path.join(os.path.dirname(__file__), "..", "sweeps", "dae_slider_chain_pendulum.toml")
 

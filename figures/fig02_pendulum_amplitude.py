@@ -14,19 +14,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.config  # noqa: E402
+import periodyn.studies.spec  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.config.ensure("pendulum")
+    ds = periodyn.studies.spec.ensure("pendulum")
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values
     keep = r <= 0.9
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(r[keep], amp[keep], "k-", lw=1.2, label="linearized, eq. (29)")
     w0 = float(ds["omega_over_omega0"].attrs["reference_frequency"])
-    branch = periodyn.config.ensure("pendulum_nonlinear")["frequency"]
+    branch = periodyn.studies.spec.ensure("pendulum_nonlinear")["frequency"]
     ax.plot(np.asarray(branch.omega) / w0, np.asarray(branch.amplitude)[:, 0], "k--", lw=1.0,
             label="full non-linear, eq. (28), shooting")
     ax.set_xlabel(r"$\omega/\omega_0$")

@@ -13,13 +13,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-import periodyn.config  # noqa: E402
+import periodyn.studies.spec  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
-from periodyn.boundaries import stability_boundaries  # noqa: E402
+from periodyn.stability.boundaries import stability_boundaries  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.config.ensure("pendulum")
+    ds = periodyn.studies.spec.ensure("pendulum")
     w0 = float(ds["omega_over_omega0"].attrs["reference_frequency"])
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values

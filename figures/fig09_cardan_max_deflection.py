@@ -20,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.config  # noqa: E402
+import periodyn.studies.spec  # noqa: E402
 from periodyn.examples.cardan import orbit_maxima  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
@@ -68,8 +68,8 @@ def maximum_figure(ds, values, ylabel: str, title: str):
 def nonlinear_points() -> dict[str, np.ndarray]:
     """The non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml``: omega / omega_b,
     stable (bool), and the maxima of :func:`periodyn.examples.cardan.orbit_maxima`, (k,) each."""
-    branch = periodyn.config.ensure(NONLINEAR)["frequency"]
-    study = periodyn.config.load_sweep_file(periodyn.config.project_root() / "sweeps" / f"{NONLINEAR}.toml")
+    branch = periodyn.studies.spec.ensure(NONLINEAR)["frequency"]
+    study = periodyn.studies.spec.load_sweep_file(periodyn.studies.spec.project_root() / "sweeps" / f"{NONLINEAR}.toml")
     system = study.build()  # the element model the orbits were computed for
     maxima = [orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]
     return {"ratio": branch.omega / system.metadata["omega_b"], "stable": branch.stable.astype(bool),
@@ -87,7 +87,7 @@ def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> No
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.config.ensure(NAME)
+    ds = periodyn.studies.spec.ensure(NAME)
     deflection = np.abs(over_period(ds, "midpoint_deflection")).max(axis=1)
     fig, ax = maximum_figure(ds, deflection, r"$(v/l)_{max}$ [-]",
                              r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection (squares: non-linear)")

@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.config  # noqa: E402
+import periodyn.studies.spec  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
@@ -43,7 +43,7 @@ def harmonic_panels(ds, output: str, label: str, path: pathlib.Path) -> pathlib.
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.config.ensure(NAME)
+    ds = periodyn.studies.spec.ensure(NAME)
     return [harmonic_panels(ds, "midpoint_deflection", "the midpoint deflection v/l",
                             pathlib.Path(out_dir) / "fig11_cardan_deflection_harmonics.png")]
 

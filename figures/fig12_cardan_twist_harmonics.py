@@ -9,7 +9,7 @@ from __future__ import annotations
 import pathlib
 import sys
 
-import periodyn.config
+import periodyn.studies.spec
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from fig09_cardan_max_deflection import NAME  # noqa: E402
@@ -17,7 +17,7 @@ from fig11_cardan_deflection_harmonics import harmonic_panels  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.config.ensure(NAME)
+    ds = periodyn.studies.spec.ensure(NAME)
     return [harmonic_panels(ds, "twist", r"the twist $\varphi$ [rad]",
                             pathlib.Path(out_dir) / "fig12_cardan_twist_harmonics.png")]
 

@@ -4,7 +4,7 @@ growing as the damping ratio falls, 1x and 2x running-speed lines, the Table I s
 and the stability threshold (if any in range).
 
 Reads (or computes once and stores) results/campbell_rotor.nc made by
-periodyn.rotor.campbell."""
+periodyn.rotor.diagram."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.config import project_root  # noqa: E402
+from periodyn.studies.spec import project_root  # noqa: E402
 from periodyn.examples import rotor  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 from periodyn.rotor import FORWARD, stored_campbell  # noqa: E402

@@ -15,10 +15,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
+from periodyn.studies.spec import ensure, load_sweep_file, project_root  # noqa: E402
 from periodyn.nonlinear import ihb  # noqa: E402
 from periodyn.plotting import plot_branch, time_history_figure  # noqa: E402
-from periodyn.nonlinear import integrate, steady_state  # noqa: E402
+from periodyn.numerics.integration import integrate
+from periodyn.numerics.integration import steady_state  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 

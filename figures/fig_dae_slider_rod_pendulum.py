@@ -15,9 +15,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.config import ensure, load_sweep_file, project_root  # noqa: E402
+from periodyn.studies.spec import ensure, load_sweep_file, project_root  # noqa: E402
 from periodyn.plotting import plot_branch, time_history_figure  # noqa: E402
-from periodyn.nonlinear import integrate, shooting  # noqa: E402
+from periodyn.numerics.integration import integrate
+from periodyn.nonlinear import shooting  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
 
 

@@ -4,7 +4,7 @@ section 4.3 at 4000 rpm, periodyn (5 rotor elements as the paper, and refined me
 "present" column and Sundararajan & Noah's, with relative differences.
 
 Reads (or computes once and stores) results/table1_rotor_<n>el.nc and
-results/table1_rotor_spatial_5el.nc made by periodyn.rotor.campbell; writes the table as
+results/table1_rotor_spatial_5el.nc made by periodyn.rotor.diagram; writes the table as
 text beside the figures."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import sys
 
 import numpy as np
 
-from periodyn.config import project_root
+from periodyn.studies.spec import project_root
 from periodyn.examples import rotor
-from periodyn.examples.rotor import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
+from periodyn.examples.rotor_table1 import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
 from periodyn.rotor import stored_campbell
 
 MESHES = (5, 20, 80)

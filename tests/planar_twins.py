@@ -5,7 +5,7 @@ and by benchmarks/bench_linearize.py, so this module needs NumPy and periodyn on
 
 import numpy as np
 
-from periodyn.kernels.assembly import reduced_sample
+from periodyn.kernels.mechanism.assembly import reduced_sample
 
 __all__ = ["chord_twin", "beam_deformation_twin", "beam_inertia_twin", "truss_deformation_twin", "elastic_twin",
            "midpoint_twin", "motion_twin", "kernel_sample"]
@@ -109,7 +109,7 @@ def truss_deformation_twin(xe, par):
 
 def elastic_twin(D, Dx, Dxx, ve, S, Sd, s0=0.0):
     """r = Dx^T sigma, C, K of the Kelvin-Voigt law with constant stress s0 (see
-    periodyn.kernels.elastic)."""
+    periodyn.kernels.elements.elastic)."""
     rate = Dx @ ve
     sigma = S @ D + Sd @ rate + s0
     rate_x = np.einsum("kac,c->ka", Dxx, ve)

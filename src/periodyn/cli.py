@@ -69,7 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     sw = commands.add_parser("sweep", help="run a sweep file and write its results (and a figure)",
                              description="Run the sweep described by a TOML sweep file (see sweeps/*.toml and "
-                                         "periodyn.config) and write one netCDF result file.")
+                                         "periodyn.studies.spec) and write one netCDF result file.")
     sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml, a continuation study "
                                             "([continuation] table), e.g. sweeps/dae_rod_pendulum.toml, or a "
                                             "transient study ([transient] table), e.g. "
@@ -132,9 +132,9 @@ def _summary(ds, out: Path, elapsed: float) -> list[str]:
 
 
 def _cmd_sweep(args) -> int:
-    from .config import load_sweep_file
+    from .studies.spec import load_sweep_file
     from .plotting import plot_sweep, save_figure
-    from .sweep import sweep_file
+    from .engine.front import sweep_file
 
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
@@ -165,7 +165,8 @@ def _cmd_sweep(args) -> int:
 
 def _cmd_study(args, spec, out: Path) -> int:
     from .plotting import save_figure
-    from .study import plot_study, run_study
+    from .plotting import plot_study
+    from .studies.continuation import run_study
 
     if args.scheduler or args.chunk_size:
         raise InputError(f"{spec.source} is a continuation study, which runs in one process; drop --scheduler "
@@ -197,7 +198,7 @@ def _cmd_study(args, spec, out: Path) -> int:
 
 def _cmd_transient(args, spec, out: Path) -> int:
     from .plotting import save_figure
-    from .transient_study import ensure_transient, run_transient
+    from .studies.transient import ensure_transient, run_transient
 
     if args.omega or args.scheduler or args.chunk_size:
         raise InputError(f"{spec.source} is a transient study at one speed, run in one process; drop --omega, "
@@ -229,7 +230,7 @@ def _cmd_transient(args, spec, out: Path) -> int:
 def _chosen_scripts(args, folder: str, pattern: str, prefix: str, what: str) -> tuple[Path, list[Path]]:
     """(project root, the scripts ``args.names`` choose in ``<root>/<folder>``), or (root, [])
     after printing their names when ``args.list`` is set or there are none."""
-    from .config import project_root
+    from .studies.spec import project_root
 
     root = project_root()
     scripts = _scripts(root / folder, pattern, prefix, args.names)

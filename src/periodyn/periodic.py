@@ -19,9 +19,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .harmonic.operator import BAND_RTOL as _BAND_RTOL
-from .kernels.harmonic import half_range as _half_range_kernel
-from .spectra import spectral_tail, synthesize, to_samples
+from .kernels.solvers.harmonic import half_range as _half_range_kernel
+from .numerics.spectra import BAND_RTOL, spectral_tail, synthesize, to_samples
 
 __all__ = ["PeriodicSolution", "half_range_and_mean", "output_spectrum"]
 
@@ -47,7 +46,7 @@ def output_spectrum(G: np.ndarray, harmonics: np.ndarray) -> np.ndarray:
     no aliasing); leading axes (e.g. speeds) are carried along."""
     KG = (G.shape[0] - 1) // 2
     mag = np.abs(G).reshape(G.shape[0], -1).max(axis=1)
-    big = np.nonzero(mag > _BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
+    big = np.nonzero(mag > BAND_RTOL * max(mag.max(), np.finfo(float).tiny))[0]
     kg = int(np.abs(big - KG).max()) if big.size else 0
     G = G[KG - kg: KG + kg + 1]
     m = (harmonics.shape[-2] - 1) // 2

@@ -16,7 +16,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 __all__ = ["speed_axis", "output_unit", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure",
-           "plot_branch", "time_history_figure"]
+           "plot_branch", "time_history_figure", "plot_study"]
 
 _MAX_CURVES = 12
 
@@ -171,5 +171,32 @@ def time_history_figure(sol, th, coords, lams, names, lam_names, title):
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
     axes[0].set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_study(branches: dict, title: str = ""):
+    """Bifurcation diagram: amplitude of the coordinate moving most vs omega (frequency and
+    period-doubled branches) and vs the parameter (parameter curve); solid stable, dashed
+    unstable, special points marked by type."""
+    main = branches["frequency"]
+    j = int(main.amplitude.max(axis=0).argmax())
+    coordinate = main.solutions[0].coordinate_names[j]
+    panels = 2 if "parameter" in branches else 1
+    fig, axes = plt.subplots(1, panels, figsize=(5.2 * panels, 4), squeeze=False)
+    ax = axes[0, 0]
+    plot_branch(ax, main, j, "period 1" if "period_doubled" in branches else "")
+    if "period_doubled" in branches:
+        plot_branch(ax, branches["period_doubled"], j, "period 2", color="tab:orange")
+    ax.set_xlabel("omega (rad/s)")
+    ax.set_ylabel(f"{coordinate} amplitude")
+    if panels == 2:
+        p = branches["parameter"]
+        plot_branch(axes[0, 1], p, j)
+        axes[0, 1].set_xlabel(f"{p.parameter_name} at omega = {p.omega[0]:.4g} rad/s")
+    for a in axes[0]:
+        a.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     return fig

@@ -206,7 +206,7 @@ def to_dataset(columns: dict[str, np.ndarray], *, omega: np.ndarray, harmonics: 
     ``(*grid, omega)``, as from :func:`empty_columns`). omega (k,) rad/s; outputs: names;
     output_units: one unit string per output ('' unknown); grid: {name: values} in order;
     reference: (name, rad/s) adds ``omega_over_<name>``."""
-    from .spectra import harmonic_indices
+    from .numerics.spectra import harmonic_indices
 
     grid = dict(grid or {})
     shape = tuple(len(v) for v in grid.values()) + (len(omega),)

@@ -21,7 +21,7 @@ from typing import Callable, NamedTuple, Sequence
 import numpy as np
 
 from .errors import InputError
-from .spectra import fourier_coefficients, sample_angles
+from .numerics.spectra import fourier_coefficients, sample_angles
 
 __all__ = ["RheoLinear", "OmegaSplitModel", "Spectra"]
 

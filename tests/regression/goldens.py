@@ -14,7 +14,7 @@ import pathlib
 import numpy as np
 
 import periodyn
-from periodyn.analysis import SpeedSolver
+from periodyn.speeds import SpeedSolver
 
 GOLDEN = pathlib.Path(__file__).parent / "golden"
 

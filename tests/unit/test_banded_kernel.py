@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from periodyn.kernels.banded import banded_matvec, banded_solve_batch
+from periodyn.kernels.solvers.banded import banded_matvec, banded_solve_batch
 
 RNG = np.random.default_rng(3)
 

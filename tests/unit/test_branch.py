@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.continuation import Branch, ContinuationOptions, continuation, load_branch
+from periodyn.arclength import Branch, ContinuationOptions, continuation, load_branch
 from periodyn.errors import InputError
 from periodyn.examples.dae_examples import duffing, inverted_pendulum
 

@@ -33,7 +33,7 @@ def project(tmp_path, monkeypatch):
     (tmp_path / "figures").mkdir()
     (tmp_path / "figures" / "fig9_tiny.py").write_text(textwrap.dedent("""
         from periodyn.plotting import plot_sweep, save_figure
-        from periodyn.config import ensure
+        from periodyn.studies.spec import ensure
 
         def main(out_dir):
             return [save_figure(plot_sweep(ensure("tiny")), out_dir / "fig9_tiny.png")]
@@ -150,8 +150,8 @@ def test_plot_axes_and_result_file_carry_units(project, capsys):
 
 
 def test_summary_after_resume_counts_computed_points(project, capsys):
-    from periodyn.config import load_sweep_file
-    from periodyn.sweep import ExecutionOptions, OutputOptions, sweep
+    from periodyn.studies.spec import load_sweep_file
+    from periodyn.engine.front import ExecutionOptions, OutputOptions, sweep
 
     spec = load_sweep_file(project / "sweeps" / "tiny.toml")
     plan = spec.plan()
@@ -208,7 +208,7 @@ def test_bench_linearize_runs_without_the_test_extras(tmp_path):
 def test_a_cold_kernel_cache_is_announced_before_the_sweep(project, capsys, monkeypatch):
     import importlib
 
-    engine = importlib.import_module("periodyn.sweep")
+    engine = importlib.import_module("periodyn.engine.front")
     monkeypatch.setattr(engine, "kernels_cached", lambda: False)
     assert main(["sweep", "sweeps/tiny.toml", "--out", "c.nc", "--workers", "1"]) == 0
     assert "compiling the numerical kernels on first use" in capsys.readouterr().err

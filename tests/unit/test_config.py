@@ -13,8 +13,8 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from periodyn.analysis import solve_point
-from periodyn.config import load_sweep_file, parse_sweep, project_root
+from periodyn.speeds import solve_point
+from periodyn.studies.spec import load_sweep_file, parse_sweep, project_root
 from periodyn.errors import InputError
 from periodyn.examples import pendulum as pendulum_builder
 
@@ -82,7 +82,7 @@ def test_shipped_sweep_files_are_valid():
     for path in files:
         spec = load_sweep_file(path)
         if spec.kind == "continuation":
-            from periodyn.nonlinear.problem import DAE
+            from periodyn.dae import DAE
 
             system = spec.build()  # a DAE built from [model.parameters]
             assert isinstance(system, DAE)
@@ -218,8 +218,8 @@ ELEMENTS_FILE = project_root() / "sweeps" / "elliptic_pendulum_elements.toml"
 
 def test_element_model_file_builds_the_same_model_as_python():
     from periodyn.examples.elliptic_pendulum import pendulum_from_elements
-    from periodyn.examples.pendulum import pendulum
-    from periodyn.sweep import sweep_file
+    from periodyn.examples.pendulum_equation import pendulum
+    from periodyn.engine.front import sweep_file
 
     spec = load_sweep_file(ELEMENTS_FILE)
     model = spec.plan().model
@@ -236,7 +236,7 @@ def test_element_model_file_builds_the_same_model_as_python():
 
 
 def test_slider_crank_file_matches_the_python_builder():
-    from periodyn.examples.slider_crank import slider_crank
+    from periodyn.examples.slider_crank_rod import slider_crank
 
     model = load_sweep_file(project_root() / "sweeps" / "slider_crank_elements.toml").plan().model
     reference = slider_crank(damping=0.02, samples=64)

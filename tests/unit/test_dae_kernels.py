@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from periodyn.nonlinear.ihb_fourier import complex_to_real, derivative_matrix, product_blocks, real_coefficients, real_samples, real_to_complex
-from periodyn.nonlinear.ihb import IHBProblem
+from periodyn.nonlinear.ihb_solver import IHBProblem
 from periodyn.examples.dae_examples import duffing, inverted_pendulum, rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
 
 RNG = np.random.default_rng(7)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from periodyn.nonlinear import DAE
+from periodyn.dae import DAE
 from periodyn.errors import InputError
 
 

@@ -1,4 +1,4 @@
-"""Floquet kernels (periodyn.kernels.floquet) against plain-NumPy/SciPy twins."""
+"""Floquet kernels (periodyn.kernels.solvers.floquet) against plain-NumPy/SciPy twins."""
 
 import numpy as np
 import pytest
@@ -7,9 +7,9 @@ import scipy.linalg as sla
 import periodyn
 from periodyn.examples.chain import parametric_chain
 from periodyn.harmonic import HarmonicOperator
-from periodyn.hill import _dense_eigs, select_representatives
-from periodyn.kernels.floquet import _expm, magnus6_product, magnus_monodromies, magnus_product
-from periodyn.magnus import gauss_angles, magnus_terms, magnus_transition
+from periodyn.stability.hill import _dense_eigs, select_representatives
+from periodyn.kernels.solvers.floquet import _expm, magnus6_product, magnus_monodromies, magnus_product
+from periodyn.stability.magnus import gauss_angles, magnus_terms, magnus_transition
 
 RNG = np.random.default_rng(11)
 
@@ -85,7 +85,7 @@ def _slider_crank_terms(steps, points):
     """The slider crank's Magnus terms at ``points`` Gauss points of ``steps`` steps, the model, the angles."""
     model = periodyn.examples.slider_crank(damping=0.02, samples=64)
     theta = gauss_angles(steps, points=points)
-    terms, a = magnus_terms(*(periodyn.spectra.synthesize(X, theta) for X in model._power_spectra[:3]))
+    terms, a = magnus_terms(*(periodyn.numerics.spectra.synthesize(X, theta) for X in model._power_spectra[:3]))
     return terms, a, model, theta
 
 
@@ -115,7 +115,7 @@ def test_unbalanced_transition_is_similar_to_the_balanced_one():
         single = np.empty((8, 8))
         magnus_product(A, h, single)
         S = model.at(w).spectra
-        unbalanced = magnus_transition(*(periodyn.spectra.synthesize(X, theta) for X in (S.mass, S.damping,
+        unbalanced = magnus_transition(*(periodyn.numerics.spectra.synthesize(X, theta) for X in (S.mass, S.damping,
                                                                                           S.stiffness)), h)
         np.testing.assert_allclose(np.sort_complex(np.linalg.eigvals(unbalanced)),
                                    np.sort_complex(np.linalg.eigvals(single)), atol=1e-10)

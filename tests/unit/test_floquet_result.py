@@ -1,9 +1,9 @@
-"""FloquetExponents and the one stability verdict (periodyn.floquet)."""
+"""FloquetExponents and the one stability verdict (periodyn.stability.floquet)."""
 
 import numpy as np
 
-from periodyn.floquet import STABILITY_TOL, FloquetExponents, is_stable
-from periodyn.hill import FloquetExponents as FromHill
+from periodyn.stability.floquet import STABILITY_TOL, FloquetExponents, is_stable
+from periodyn.stability.hill import FloquetExponents as FromHill
 
 
 def test_from_multipliers_round_trip_and_period():

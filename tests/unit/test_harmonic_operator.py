@@ -9,7 +9,7 @@ import periodyn
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.chain import parametric_chain
 from periodyn.harmonic import HarmonicOperator, HillOperator, block_pattern, first_order_matrix, real_form
-from periodyn.hb import BalanceStorage, balance_storage, solve_balance
+from periodyn.harmonic.balance import BalanceStorage, balance_storage, solve_balance
 
 
 def direct_blocks(system, m):
@@ -130,7 +130,7 @@ def test_non_finite_balance_solution_raises():
 
 
 def test_non_finite_monodromy_raises():
-    from periodyn.timedomain import exponents_from_monodromy
+    from periodyn.stability.monodromy import exponents_from_monodromy
 
     Phi = np.eye(2)
     Phi[0, 1] = np.inf
@@ -140,7 +140,7 @@ def test_non_finite_monodromy_raises():
 
 def test_tail_from_magnitudes_equals_spectral_tail():
     from periodyn.harmonic.operator import _harmonic_magnitudes, _tail
-    from periodyn.spectra import spectral_tail
+    from periodyn.numerics.spectra import spectral_tail
 
     rng = np.random.default_rng(3)
     for K in (0, 1, 4, 9):

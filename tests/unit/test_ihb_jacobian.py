@@ -7,9 +7,9 @@ import pytest
 
 from periodyn.nonlinear import ihb
 from periodyn.nonlinear.ihb_fourier import product_blocks
-from periodyn.nonlinear.ihb import IHBProblem
+from periodyn.nonlinear.ihb_solver import IHBProblem
 from periodyn.examples.dae_examples import duffing, rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
-from periodyn.nonlinear.newton import lu_factor
+from periodyn.numerics.newton_iteration import lu_factor
 
 RNG = np.random.default_rng(12)
 

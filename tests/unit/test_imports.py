@@ -6,6 +6,7 @@ module graph (every import statement, also those inside functions) has no cycle,
 from __future__ import annotations
 
 import ast
+import importlib
 import subprocess
 import sys
 from pathlib import Path
@@ -178,22 +179,84 @@ def test_light_start_loads_no_heavy_library(code):
     assert run.stdout.strip() == ""
 
 
-def test_public_names_resolve_lazily():
+#: the package's layers in the order of the data flow: a module imports only from its own
+#: layer or below (DESIGN.md, "Target layout"); ``periodyn/__init__`` (the lazy front of the
+#: public names) and ``_moved`` (old import paths) stand outside
+LAYERS = (("errors", "kernels"), ("numerics",), ("system", "dae", "periodic", "results"), ("model",), ("harmonic",),
+          ("stability",), ("nonlinear",), ("averaging", "speeds", "rotor"), ("arclength",), ("examples",),
+          ("engine",), ("studies",), ("plotting",), ("cli",))
+OUTSIDE = ("periodyn", "periodyn._moved")
+
+
+def layer(name: str) -> int:
+    top = name.split(".")[1]
+    return next(i for i, tops in enumerate(LAYERS) if top in tops)
+
+
+def test_every_module_has_a_layer_and_nothing_imports_upward():
+    known = modules()
+    unplaced = [n for n in known if n not in OUTSIDE and not any(n.split(".")[1] in tops for tops in LAYERS)]
+    assert not unplaced, f"modules outside every layer (add them to LAYERS and DESIGN.md): {unplaced}"
+    upward = [f"{n} (layer {layer(n)}) imports {t} (layer {layer(t)})"
+              for n, path in known.items() if n not in OUTSIDE
+              for t in sorted(imported(n, path, known)) if t not in OUTSIDE and layer(t) > layer(n)]
+    assert not upward, "\n".join(upward)
+
+
+def test_no_module_shares_a_public_name_of_its_package_or_of_its_own_functions():
+    """``import periodyn.x.y`` binds ``y`` on ``periodyn.x``: a submodule named like a
+    function its package exports would replace that function, and a module named like its
+    own function reads ambiguously (``periodyn.continuation`` was both)."""
+    known = modules()
+    clashes = []
+    for name, path in known.items():
+        leaf = name.rpartition(".")[2]
+        own = {n.name for n in ast.parse(path.read_text()).body
+               if isinstance(n, (ast.FunctionDef, ast.ClassDef)) and not n.name.startswith("_")}
+        if leaf in own:
+            clashes.append(f"{name} defines {leaf}()")
+    for package, path in known.items():
+        if path.name != "__init__.py":
+            continue
+        exported = set(getattr(importlib.import_module(package), "__all__", ()))
+        subs = {n.rpartition(".")[2] for n in known if n.rpartition(".")[0] == package}
+        clashes += [f"{package} exports {n!r} and has a submodule of that name"
+                    for n in sorted(exported & subs) if n not in getattr(importlib.import_module(package),
+                                                                          "_SUBMODULES", ())]
+    assert not clashes, "\n".join(clashes)
+
+
+def test_public_names_resolve_lazily_and_stay_functions_after_their_modules_load():
     for name in periodyn.__all__:
         assert getattr(periodyn, name) is not None
-    assert periodyn.sweep.__module__ == "periodyn.sweep"
+    assert periodyn.sweep.__module__ == "periodyn.engine.front"
     with pytest.raises(AttributeError, match="no attribute 'nonexistent'"):
         periodyn.nonexistent
-
-
-def test_importing_a_submodule_keeps_the_function_of_its_name():
-    """periodyn.sweep / .transient / .continuation stay the functions after their modules
-    are imported (as they were when __init__ imported everything)."""
-    code = ("import periodyn.sweep, periodyn.transient, periodyn.continuation, sys, types\n"
-            "import periodyn\n"
-            "for name in ('sweep', 'transient', 'continuation'):\n"
-            "    assert callable(getattr(periodyn, name)), name\n"
-            "    assert isinstance(sys.modules['periodyn.' + name], types.ModuleType)\n"
-            "from periodyn.sweep import sweep_file\n")
+    code = ("import periodyn.engine.front, periodyn.averaging, periodyn.arclength, periodyn.rotor.diagram\n"
+            "import periodyn, periodyn.rotor, periodyn.examples.rotor_table1\n"
+            "for f in (periodyn.sweep, periodyn.transient, periodyn.continuation, periodyn.rotor.campbell,\n"
+            "          periodyn.examples.rotor):\n"
+            "    assert callable(f) and not isinstance(f, type(periodyn)), f\n"
+            "from periodyn import ExecutionOptions, OutputOptions, ContinuationOptions\n")
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
+
+
+def test_an_old_import_path_forwards_to_the_new_module_with_a_deprecation_warning():
+    code = ("import warnings\n"
+            "warnings.simplefilter('error', DeprecationWarning)\n"
+            "try:\n"
+            "    import periodyn.hill\n"
+            "except DeprecationWarning as w:\n"
+            "    assert 'periodyn.stability.hill' in str(w), w\n"
+            "else:\n"
+            "    raise SystemExit('no warning')\n"
+            "warnings.simplefilter('ignore', DeprecationWarning)\n"
+            "from periodyn.hill import characteristic_exponents\n"
+            "from periodyn.stability.hill import characteristic_exponents as new\n"
+            "assert characteristic_exponents is new\n"
+            "from periodyn.config import ensure\n"
+            "from periodyn.studies.spec import ensure as new_ensure\n"
+            "assert ensure is new_ensure\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr + run.stdout

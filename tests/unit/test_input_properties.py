@@ -16,7 +16,7 @@ from periodyn.cli import main
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
 from periodyn.results import STATUS_FAILED, STATUS_SOLVED, load
-from periodyn.sweep import sweep
+from periodyn.engine.front import sweep
 
 W0 = math.sqrt(9.81)
 SETTINGS = settings(max_examples=50, deadline=None, derandomize=True,

@@ -69,9 +69,9 @@ def test_round_off_coefficients_do_not_warn():
     'spectrum' is noise and must not raise an aliasing alarm."""
     import warnings
 
-    from periodyn.analysis import SpeedSolver
-    from periodyn.examples.slider_crank import slider_crank_model
-    from periodyn.linearize import omega_split
+    from periodyn.speeds import SpeedSolver
+    from periodyn.examples.slider_crank_rod import slider_crank_model
+    from periodyn.model.linearization import omega_split
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", periodyn.AliasingWarning)

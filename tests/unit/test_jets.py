@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from periodyn.kernels import jets, planar_geometry
+from periodyn.kernels.elements import jets, planar_geometry
 
 RNG = np.random.default_rng(11)
 

@@ -4,10 +4,10 @@ on dense, sparse and permuted matrices and on an element model's constraint Jaco
 import numpy as np
 import pytest
 
-from periodyn.examples.slider_crank import slider_crank_model
-from periodyn.kernels.constraints import allocate_equations, equations
-from periodyn.kernels.lu import factor, lu_factor, lu_solve, lu_solve_transposed
-from periodyn.kinematics import nominal_configurations
+from periodyn.examples.slider_crank_rod import slider_crank_model
+from periodyn.kernels.mechanism.constraint_system import allocate_equations, equations
+from periodyn.kernels.mechanism.lu import factor, lu_factor, lu_solve, lu_solve_transposed
+from periodyn.model.kinematics import nominal_configurations
 
 
 def _sparse(n, rng, density=0.15):
@@ -73,7 +73,7 @@ def test_condition_estimate_bounds_the_lapack_value(n, dense):
     (numpy.linalg.cond, from the explicit inverse, itself accurate to about cond * eps
     relative, 1e-5 for the graded matrix) and, on these matrices, within a factor 3 of it,
     including an ill-conditioned matrix (singular values down to 1e-11)."""
-    from periodyn.kernels.lu import inverse_norm1, norm1
+    from periodyn.kernels.mechanism.lu import inverse_norm1, norm1
 
     rng = np.random.default_rng(n + 11)
     A = rng.standard_normal((n, n)) if dense else _sparse(n, rng)
@@ -88,7 +88,7 @@ def test_condition_estimate_bounds_the_lapack_value(n, dense):
 
 @pytest.mark.parametrize("n, dense", [(1, True), (30, True), (150, False)])
 def test_transposed_solve_of_many_columns_matches_lapack(n, dense):
-    from periodyn.kernels.lu import lu_solve_transposed_many
+    from periodyn.kernels.mechanism.lu import lu_solve_transposed_many
 
     rng = np.random.default_rng(n + 5)
     A = rng.standard_normal((n, n)) if dense else _sparse(n, rng)

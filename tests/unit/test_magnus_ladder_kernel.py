@@ -1,14 +1,14 @@
-"""The jitted Magnus-ladder kernels (periodyn.kernels.magnus_ladder) against plain-NumPy
+"""The jitted Magnus-ladder kernels (periodyn.kernels.solvers.magnus_ladder) against plain-NumPy
 twins, and the ladder's per-speed independence."""
 
 import numpy as np
 import pytest
 
 import periodyn
-from periodyn.kernels import magnus_ladder as kernel
-from periodyn.kernels.floquet import magnus_monodromies
-from periodyn.magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
-from periodyn.spectra import StackedSpectra, real_basis
+from periodyn.kernels.solvers import magnus_ladder as kernel
+from periodyn.kernels.solvers.floquet import magnus_monodromies
+from periodyn.stability.magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
+from periodyn.numerics.spectra import StackedSpectra, real_basis
 
 
 def balanced_terms_twin(mass, damping, stiffness):

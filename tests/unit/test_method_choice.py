@@ -3,12 +3,12 @@
 import numpy as np
 
 import periodyn
-from periodyn.analysis import SpeedSolver
+from periodyn.speeds import SpeedSolver
 from periodyn.examples.chain import parametric_chain
-from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model
+from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
 from periodyn.harmonic import HarmonicOperator
-from periodyn.hill import choose_method, hill_cost, hill_costs_many, operator_exponents
-from periodyn.linearize import omega_split
+from periodyn.stability.hill import choose_method, hill_cost, hill_costs_many, operator_exponents
+from periodyn.model.linearization import omega_split
 
 
 def test_auto_takes_sparse_for_a_large_soft_system_and_dense_for_a_stiff_one():

@@ -11,8 +11,8 @@ import pytest
 from periodyn import sweep
 from periodyn.errors import ConvergenceError
 from periodyn.examples import pendulum
-from periodyn.timedomain import exponents_from_monodromy
-from periodyn.magnus import monodromy_exponent_array
+from periodyn.stability.monodromy import exponents_from_monodromy
+from periodyn.stability.magnus import monodromy_exponent_array
 
 
 def test_zero_multiplier_gives_nan_exponents_without_a_warning():

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from periodyn.continuation.events import branch_test, classify, crossing_test, illinois, same_point
+from periodyn.arclength.events import branch_test, classify, crossing_test, illinois, same_point
 from periodyn.errors import ConvergenceError
-from periodyn.nonlinear.newton import least_squares_factor, newton
+from periodyn.numerics.newton_iteration import least_squares_factor, newton
 
 
 def test_newton_quadratic_convergence_dense_and_sparse():
@@ -107,8 +107,8 @@ def test_the_driver_merges_one_point_seen_from_adjacent_brackets_and_keeps_the_b
     """Branch points refined either side of branch point 5 (p = 6.353), where the test
     function is 4e-10: one point (the one with the smaller |test| stays); another type, a
     bracket further on, or a point without refinement is never merged."""
-    from periodyn.continuation.branch import SpecialPoint
-    from periodyn.continuation.driver import _add_special
+    from periodyn.arclength.branch import SpecialPoint
+    from periodyn.arclength.driver import _add_special
 
     p = [6.2, 6.25, 6.3, 6.32, 6.34, 6.353, 6.37, 6.4]
 
@@ -132,8 +132,8 @@ def test_a_count_change_without_a_sign_change_next_to_a_refined_point_is_that_po
     multiplier count changes in two adjacent brackets, the test function only in the first.
     The second is the first seen again, in either order; a failed refinement of a real sign
     change is kept."""
-    from periodyn.continuation.branch import SpecialPoint
-    from periodyn.continuation.driver import _add_special
+    from periodyn.arclength.branch import SpecialPoint
+    from periodyn.arclength.driver import _add_special
 
     p = [6.344, 6.350035, 6.353038, 6.3560]
     refined = SpecialPoint("branch-point", 1, 6.353013, 6.353013, test_values=np.array([0.13, -2.7e-3, 4e-10]))

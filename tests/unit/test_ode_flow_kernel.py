@@ -1,5 +1,5 @@
-"""The lean flow of ODEs with a constant mass (``periodyn.kernels.ode_flow`` behind
-``periodyn.nonlinear.variational.flow``) against the NumPy path (the same ODE given with a
+"""The lean flow of ODEs with a constant mass (``periodyn.kernels.solvers.ode_flow`` behind
+``periodyn.numerics.variational.flow``) against the NumPy path (the same ODE given with a
 callable mass, solved per stage), and its omega sensitivity against central differences
 of the end state in omega."""
 
@@ -8,7 +8,7 @@ import pytest
 
 from periodyn import DAE
 from periodyn.errors import InputError
-from periodyn.nonlinear.variational import flow
+from periodyn.numerics.variational import flow
 
 MASS = np.array([[2.0, 0.3], [0.3, 1.0]])
 

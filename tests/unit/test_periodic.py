@@ -8,7 +8,7 @@ from periodyn.nonlinear import ihb
 from periodyn.examples.dae_examples import inverted_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import shooting
 from periodyn.periodic import PeriodicSolution
-from periodyn.spectra import to_samples
+from periodyn.numerics.spectra import to_samples
 
 
 def _dense_half_range(sol, samples=2 ** 20):

@@ -6,9 +6,10 @@ The twins live in tests/planar_twins.py (also used by benchmarks/bench_linearize
 import numpy as np
 import pytest
 
-from periodyn.examples.slider_crank import slider_crank_model
-from periodyn.kernels import elastic, outputs, planar_beam, planar_hinge, planar_truss
-from periodyn.kinematics import nominal_configurations
+from periodyn.examples.slider_crank_rod import slider_crank_model
+from periodyn.kernels.elements import elastic, planar_beam, planar_hinge, planar_truss
+from periodyn.kernels.mechanism import outputs
+from periodyn.model.kinematics import nominal_configurations
 from periodyn.model import PlanarBeam
 from tests.planar_twins import (beam_deformation_twin, beam_inertia_twin, elastic_twin, kernel_sample,
                                  midpoint_twin, motion_twin, truss_deformation_twin)
@@ -196,7 +197,7 @@ def test_adjoint_curvature_term_equals_the_direct_second_derivative_form():
     """reduced_sample forms sum_k r_k F_{q^d q^d}[k] as -mu . Phi_xx[F_d, F_d] with the
     constraint forces mu = J^-T r; the direct form contracts r with all n_d^2 second
     derivatives of the transfer function (transfer.motion's Fdd)."""
-    from periodyn.kernels import assembly, transfer
+    from periodyn.kernels.mechanism import assembly, transfer
 
     model = slider_crank_model(kelvin_voigt=5e-5, rod_elements=6, rotary_inertia_per_length=1e-4)
     n, nd = model.n_coordinates, model.n_dynamic

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from periodyn.errors import ConvergenceError, InputError
-from periodyn.examples.slider_crank import slider_crank_model
-from periodyn.kinematics import configuration, motion, nominal_configurations
+from periodyn.examples.slider_crank_rod import slider_crank_model
+from periodyn.model.kinematics import configuration, motion, nominal_configurations
 from periodyn.model import Model
 
 
@@ -143,8 +143,8 @@ def _flexible_arm():
 def test_outputs_chosen_by_the_model_linearize_their_functionals():
     """G q^d equals the change of each output for a small q^d (finite differences of the
     Newton solution); a flexible mode's output row is the unit vector over its scale."""
-    from periodyn.kernels.outputs import midpoint_deflection
-    from periodyn.linearize import output_maps
+    from periodyn.kernels.mechanism.outputs import midpoint_deflection
+    from periodyn.model.linearization import output_maps
 
     model = _flexible_arm().compile()
     assert model.output_names == ("mid", "tip_y", "tip_rotation", "b2_end")

@@ -4,8 +4,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from periodyn.continuation import SpecialPoint
-from periodyn.continuation.events import KINDS
+from periodyn.arclength import SpecialPoint
+from periodyn.arclength.events import KINDS
 from periodyn.plotting import plot_branch, plt
 
 

@@ -12,9 +12,9 @@ import xarray as xr
 
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
-from periodyn.config import ensure
+from periodyn.studies.spec import ensure
 from periodyn.results import load, save
-from periodyn.sweep import sweep
+from periodyn.engine.front import sweep
 
 SWEEP_FILE = """
 description = "tiny pendulum sweep for tests"
@@ -77,7 +77,7 @@ def test_ensure_computes_once_then_reads(tmp_path, monkeypatch):
     assert first.attrs["sweep_file_text"] == SWEEP_FILE
     np.testing.assert_allclose(first["omega_over_omega0"].values, np.linspace(0.2, 1.2, 12), rtol=1e-12)
 
-    sweep_module = sys.modules["periodyn.sweep"]  # the module, even where periodyn re-exports sweep()
+    sweep_module = sys.modules["periodyn.engine.front"]
     monkeypatch.setattr(sweep_module, "sweep_file", lambda *a, **k: pytest.fail("recomputed an up-to-date result"))
     xr.testing.assert_identical(ensure("tiny"), first)
     monkeypatch.undo()

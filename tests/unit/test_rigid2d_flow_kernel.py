@@ -1,13 +1,13 @@
 """The jitted variational right-hand side of planar rigid-body DAEs
-(``periodyn.kernels.rigid2d_flow``) against the NumPy path of
-``periodyn.nonlinear.variational`` (the same DAE with its packed arrays hidden): end
+(``periodyn.kernels.solvers.rigid2d_flow``) against the NumPy path of
+``periodyn.numerics.variational`` (the same DAE with its packed arrays hidden): end
 states, variational columns and parameter sensitivity of one integration."""
 
 import numpy as np
 import pytest
 
 from periodyn.examples.dae_examples import inverted_pendulum, rod_pendulum, slider_rod_pendulum
-from periodyn.nonlinear.variational import flow
+from periodyn.numerics.variational import flow
 
 
 @pytest.mark.parametrize("build, parameter", [(lambda: rod_pendulum(1.0, 1.0, 0.1, 1.0), "f"),

@@ -172,7 +172,7 @@ def test_stability_threshold_interpolates_the_first_crossing():
 
 
 def test_rotor_file_is_the_example_rotor(tmp_path):
-    from periodyn.config import project_root
+    from periodyn.studies.spec import project_root
     from periodyn.examples import rotor
     from periodyn.rotor import load_rotor
 

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from periodyn.examples.dae_examples import duffing, inverted_pendulum, slider_rod_pendulum
-from periodyn.kernels.saddle import saddle_accelerations, saddle_jacobians
-from periodyn.nonlinear.integrate import accelerations
-from periodyn.nonlinear.variational import acceleration_jacobians
+from periodyn.kernels.solvers.saddle import saddle_accelerations, saddle_jacobians
+from periodyn.numerics.integration import accelerations
+from periodyn.numerics.variational import acceleration_jacobians
 
 
 def random_case(p=3, n=5, m=2, seed=1):

@@ -7,7 +7,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from periodyn.errors import InputError
-from periodyn.kernels import planar_beam, spatial_beam
+from periodyn.kernels.elements import planar_beam, spatial_beam
 from periodyn.model.spatial_beam import BeamSection, SpatialBeam, beam_parameters, section_second_moments
 from tests.spatial_twins import SLOPES, _gauss, HERMITE, beam_deformation_twin, beam_inertia_twin
 

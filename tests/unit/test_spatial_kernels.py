@@ -4,7 +4,7 @@ tests/spatial_joint_twins.py (~1e-13) and finite differences of every derivative
 
 import numpy as np
 
-from periodyn.kernels import rigid_body, rotation, spatial_joints, spatial_truss
+from periodyn.kernels.elements import rigid_body, rotation, spatial_joints, spatial_truss
 from tests.spatial_joint_twins import (complex_step, conj_twin, g_twin, hinge_modes_twin, link_modes_twin,
                                        quat_twin, rigid_body_twin, rotation_twin, truss_twin)
 

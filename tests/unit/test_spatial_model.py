@@ -89,7 +89,7 @@ def test_hinge_torque_accelerates_a_shaft_by_torque_over_inertia():
     """A shaft on a free hinge about x with a resisting torque T: J theta'' = -T, so at rest
     lam_1'' = theta'' / 2 = -T / (2 J) makes the reduced residual vanish; at theta = 1 rad,
     theta' = 3 rad/s the rates follow lam = (cos(theta/2), sin(theta/2), 0, 0)."""
-    from periodyn.linearize import reduced_residual
+    from periodyn.model.linearization import reduced_residual
     J, T = 0.7, 2.5
     m = _spatial()
     m.add_hinge("h", ("ground", "shaft"), axis=(1, 0, 0), torque=T, damping=0.4)
@@ -108,8 +108,8 @@ def test_hinge_torque_accelerates_a_shaft_by_torque_over_inertia():
 def test_body_component_output_matches_twin_and_co_rotates():
     """A point carried by a turning shaft: its offset in the shaft's frame is constant, and
     the output's gradient equals the complex-step gradient of a NumPy twin."""
-    from periodyn.kernels.outputs import body_component
-    from periodyn.kinematics import nominal_configurations
+    from periodyn.kernels.mechanism.outputs import body_component
+    from periodyn.model.kinematics import nominal_configurations
     from tests.spatial_joint_twins import complex_step, rotation_twin
 
     m = _spatial()
@@ -126,8 +126,8 @@ def test_body_component_output_matches_twin_and_co_rotates():
     m.add_mode_output("twist_angle", "twist.rotation")
     model = m.compile()
     out, twist = model.outputs
-    from periodyn.kernels import assembly
-    from periodyn.kinematics import motion
+    from periodyn.kernels.mechanism import assembly
+    from periodyn.model.kinematics import motion
     tensors = assembly.allocate_tensors(model.arrays)
     for x in nominal_configurations(model, 5):  # the fixed tip turns by -theta relative to the shaft
         assembly.element_tensors(model.arrays, x, *tensors)

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from periodyn.spectra import fourier_coefficients, sample_angles, spectral_tail, synthesize, to_samples
+from periodyn.numerics.spectra import fourier_coefficients, sample_angles, spectral_tail, synthesize, to_samples
 
 
 def test_coefficients_of_a_trigonometric_polynomial():

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from periodyn.spectra import StackedSpectra, fourier_coefficients, real_basis, synthesize
+from periodyn.numerics.spectra import StackedSpectra, fourier_coefficients, real_basis, synthesize
 
 
 def _spectrum(rng, K, shape):

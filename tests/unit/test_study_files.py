@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from periodyn.cli import main
-from periodyn.config import load_sweep_file, project_root
+from periodyn.studies.spec import load_sweep_file, project_root
 from periodyn.results import load
-from periodyn.study import load_study
+from periodyn.studies.continuation import load_study
 
 FILES = sorted((project_root() / "sweeps").glob("*.toml"))
 
@@ -151,7 +151,7 @@ def test_speed_sweep_example_in_a_study_is_refused(tmp_path, capsys):
 
 
 def test_ensure_gives_the_branches_of_a_study_and_reuses_them(tmp_path, monkeypatch):
-    from periodyn.config import ensure
+    from periodyn.studies.spec import ensure
 
     (tmp_path / "sweeps").mkdir()
     small = small_study(project_root() / "sweeps" / "dae_rod_pendulum.toml", tmp_path / "sweeps", 2, 4)

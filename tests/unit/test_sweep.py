@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from periodyn.analysis import SpeedSolver, solve_point
+from periodyn.speeds import SpeedSolver, solve_point
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples import pendulum
 from periodyn.results import STATUS_FAILED, STATUS_SOLVED, load
-from periodyn.sweep import ExecutionOptions, sweep
+from periodyn.engine.front import ExecutionOptions, sweep
 
 W0 = np.sqrt(9.81)
 OMEGA = W0 * np.linspace(0.1, 1.4, 24)

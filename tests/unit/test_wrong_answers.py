@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from periodyn.cli import main
-from periodyn.config import load_sweep_file, parse_sweep
+from periodyn.studies.spec import load_sweep_file, parse_sweep
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
 from periodyn.results import STATUS_FAILED, load
-from periodyn.sweep import sweep
+from periodyn.engine.front import sweep
 
 W0 = np.sqrt(9.81)
 
@@ -103,7 +103,7 @@ def test_sweep_file_harmonics_limit_is_named_when_loading(tmp_path):
 def test_a_convergence_error_of_a_speed_batch_fails_only_its_own_speed(monkeypatch):
     """A solver that raises for one speed of a chunk: that speed is a failed point with the
     solver's message, the other speeds of the chunk are solved as without it."""
-    from periodyn.analysis import SpeedSolver
+    from periodyn.speeds import SpeedSolver
     from periodyn.errors import ConvergenceError
 
     model = pendulum(samples=24)

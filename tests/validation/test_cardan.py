@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.analysis import SpeedSolver
+from periodyn.speeds import SpeedSolver
 from periodyn.examples.cardan import CARDAN, cardan_frequencies, cardan_shaft, cardan_shaft_model
 from periodyn.examples.cardan_zones import cardan_boundaries
-from periodyn.kernels import assembly
-from periodyn.kinematics import motion, nominal_configurations
-from periodyn.linearize import linearize
+from periodyn.kernels.mechanism import assembly
+from periodyn.model.kinematics import motion, nominal_configurations
+from periodyn.model.linearization import linearize
 
 ALPHA = np.pi / 6
 OMEGA_B = 766.0          # rad/s, the paper's first bending frequency of the pinned shaft

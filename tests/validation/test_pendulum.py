@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.boundaries import stability_boundaries
+from periodyn.stability.boundaries import stability_boundaries
 
 
 @pytest.fixture(scope="module")
@@ -89,7 +89,7 @@ def test_linearized_equation_29_is_the_jacobian_of_equation_28(model):
 def test_full_nonlinear_orbit_by_shooting_approaches_the_linearized_one(model):
     """Away from resonance the non-linear (eq. 28) and linearized (eq. 29) periodic
     solutions differ by a relative O(amplitude^2): Fig. 2 solid vs dashed."""
-    from periodyn.nonlinear.shooting import shooting
+    from periodyn.nonlinear.shooting_solver import shooting
 
     dae = periodyn.examples.pendulum_nonlinear()
     w0 = model.metadata["omega0"]

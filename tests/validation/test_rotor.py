@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from periodyn.examples import rotor
-from periodyn.examples.rotor import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
+from periodyn.examples.rotor_table1 import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
 from periodyn.rotor import campbell
 
 SPEED = TABLE_I_SPEED_RPM * np.pi / 30.0
@@ -66,7 +66,7 @@ def test_spatial_beam_rotor_differs_only_by_the_sections_centrifugal_terms():
     not of unit length when the ends rotate relative to the chord, so the sections'
     centrifugal energy 1/2 E |Omega x t|^2 gains a term quadratic in the deformation.
     That is an interpolation error: the eigenvalue difference falls as h^2."""
-    from periodyn.linearize import linearize
+    from periodyn.model.linearization import linearize
 
     spatial, classical = rotor(5, shaft="spatial"), rotor(5).equations("rotating")
     model = spatial.model
@@ -91,7 +91,7 @@ def test_spatial_beam_rotor_differs_only_by_the_sections_centrifugal_terms():
 def test_spatial_beam_rotor_does_not_depend_on_the_carrier():
     """The carrier beam that gives station 0 its co-rotating lateral freedom moves it on
     a sphere about a fixed point: to first order a slider, whatever its length."""
-    from periodyn.examples.rotor import INCH
+    from periodyn.examples.rotor_table1 import INCH
     from periodyn.rotor import Bearing, Rotor, spatial_rotor
 
     def build():

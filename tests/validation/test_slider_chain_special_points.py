@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from periodyn.config import load_sweep_file, project_root
-from periodyn.continuation import confirm_special_points
-from periodyn.study import load_study, run_study
+from periodyn.studies.spec import load_sweep_file, project_root
+from periodyn.arclength import confirm_special_points
+from periodyn.studies.continuation import load_study, run_study
 
 pytestmark = pytest.mark.slow  # CPU: the branch ~90 s, its truncation check ~120 s, one integration ~40 s
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.examples.slider_crank import first_bending_frequency, slider_crank, slider_crank_model
-from periodyn.spectra import synthesize
-from periodyn.timedomain import integrate
+from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank, slider_crank_model
+from periodyn.numerics.spectra import synthesize
+from periodyn.stability.monodromy import integrate
 
 OMEGA1 = 832.0  # rad/s, paper
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.examples.slider_crank import slider_crank, slider_crank_nonlinear
+from periodyn.examples.slider_crank_rod import slider_crank, slider_crank_nonlinear
 from periodyn.periodic import half_range_and_mean
-from periodyn.spectra import fourier_coefficients
+from periodyn.numerics.spectra import fourier_coefficients
 
 from ..conftest import assert_same_spectrum
 

@@ -9,7 +9,7 @@ import pytest
 
 import periodyn
 from periodyn.errors import InputError
-from periodyn.examples.slider_crank import slider_crank, slider_crank_nonlinear
+from periodyn.examples.slider_crank_rod import slider_crank, slider_crank_nonlinear
 
 WINDOW = (203.0, 209.0)
 

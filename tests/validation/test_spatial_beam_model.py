@@ -10,9 +10,9 @@ import pytest
 from scipy.linalg import eigh
 
 from periodyn.errors import InputError
-from periodyn.examples.slider_crank import (CRANK_LENGTH, EI, MASS_PER_LENGTH, PLUNGER_MASS, ROD_LENGTH,
+from periodyn.examples.slider_crank_rod import (CRANK_LENGTH, EI, MASS_PER_LENGTH, PLUNGER_MASS, ROD_LENGTH,
                                             slider_crank_model)
-from periodyn.linearize import linearize
+from periodyn.model.linearization import linearize
 from periodyn.model import BeamSection, Model
 from tests.verification.test_spatial_beam_frequencies import (E_MOD, L, NU, OMEGA_B, RADIUS, RHO, _torsion,
                                                               pinned_bending)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from periodyn.kernels import assembly
-from periodyn.kinematics import configuration, motion, nominal_configurations
-from periodyn.linearize import linearize
+from periodyn.kernels.mechanism import assembly
+from periodyn.model.kinematics import configuration, motion, nominal_configurations
+from periodyn.model.linearization import linearize
 from periodyn.model import Model
 
 R_CRANK, L_ROD, EA, RHOA, M_PIN, M_SLIDER = 0.15, 0.3, 2.0e5, 0.8, 0.3, 0.5
@@ -171,7 +171,7 @@ def test_torque_free_rigid_body_follows_euler_equations():
 def test_spin_about_a_principal_axis_is_steady():
     """J diagonal, spin about the third axis: lam(t) = (cos(w t / 2), 0, 0, sin(w t / 2)), so the
     reduced residual of that motion vanishes at any time."""
-    from periodyn.linearize import reduced_residual
+    from periodyn.model.linearization import reduced_residual
     model = _torque_free_body(np.diag([1.0, 2.0, 3.0]))
     w = 2.0
     for t in (0.3, 1.1):

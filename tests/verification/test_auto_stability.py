@@ -7,10 +7,10 @@ import pytest
 from scipy.optimize import brentq
 
 import periodyn
-from periodyn.analysis import SpeedSolver
-from periodyn.config import load_sweep_file, project_root
-from periodyn.floquet import STABILITY_TOL
-from periodyn.magnus import MagnusLadder
+from periodyn.speeds import SpeedSolver
+from periodyn.studies.spec import load_sweep_file, project_root
+from periodyn.stability.floquet import STABILITY_TOL
+from periodyn.stability.magnus import MagnusLadder
 
 SHIPPED = ("pendulum", "slider_crank", "slider_crank_elements", "elliptic_pendulum_elements")
 
@@ -81,8 +81,8 @@ def test_stiff_element_model_certified_at_the_first_comparison_and_within_its_es
     certifies at 128 steps. The certified multiplier moduli agree with a 2048-step Magnus
     reference of both orders within the estimated error (the reference's own error is
     below 1e-11 per period)."""
-    from periodyn.examples.slider_crank import first_bending_frequency, slider_crank_model
-    from periodyn.linearize import omega_split
+    from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
+    from periodyn.model.linearization import omega_split
 
     w1 = first_bending_frequency(slider_crank_model(0.0, rod_elements=8))
     model = omega_split(slider_crank_model(2 * 0.02 / w1, rod_elements=8), 64)

@@ -10,11 +10,11 @@ w = 2.08 rad/s without a fold; the asymmetric branch born there period-doubles n
 import numpy as np
 import pytest
 
-from periodyn.continuation import confirm_special_points, continuation, load_branch, switch_branch
-from periodyn.continuation.confirm import integrated_multipliers
+from periodyn.arclength import confirm_special_points, continuation, load_branch, switch_branch
+from periodyn.arclength.confirm import integrated_multipliers
 from periodyn.errors import InputError
 from periodyn.examples import rod_pendulum
-from periodyn.timedomain import monodromy_matrix
+from periodyn.stability.monodromy import monodromy_matrix
 
 H = 20  # harmonics resolving the 2.7 rad swing (with 10 the Galerkin folds and the Floquet +1 disagree)
 

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from periodyn.continuation import continuation, switch_period_doubling
+from periodyn.arclength import continuation, switch_period_doubling
 from periodyn.nonlinear import ihb
 from periodyn.examples.dae_examples import duffing, inverted_pendulum, rod_pendulum
-from periodyn.examples.pendulum import pendulum_nonlinear
+from periodyn.examples.pendulum_equation import pendulum_nonlinear
 from periodyn.nonlinear import shooting
 
 ZETA, ALPHA, F = 0.05, 1.0, 0.1

@@ -4,11 +4,14 @@ import numpy as np
 import pytest
 
 from periodyn import RheoLinear, characteristic_exponents
-from periodyn.nonlinear import DAE, ihb
-from periodyn.nonlinear.ihb import IHBProblem
+from periodyn.dae import DAE
+from periodyn.nonlinear import ihb
+from periodyn.nonlinear.ihb_solver import IHBProblem
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.dae_examples import rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
-from periodyn.nonlinear import integrate, shooting, steady_state
+from periodyn.numerics.integration import integrate
+from periodyn.nonlinear import shooting
+from periodyn.numerics.integration import steady_state
 
 
 @pytest.fixture(scope="module")

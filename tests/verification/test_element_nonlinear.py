@@ -10,13 +10,13 @@ import pytest
 import periodyn
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.elliptic_pendulum import elliptic_pendulum_model, pendulum_from_elements
-from periodyn.examples.pendulum import pendulum_nonlinear
-from periodyn.examples.slider_crank import slider_crank_model
-from periodyn.linearize import linearize
+from periodyn.examples.pendulum_equation import pendulum_nonlinear
+from periodyn.examples.slider_crank_rod import slider_crank_model
+from periodyn.model.linearization import linearize
 from periodyn.nonlinear.elements import element_dae, element_outputs, reduced_equations
-from periodyn.nonlinear.integrate import integrate
-from periodyn.nonlinear.linear import rheo_linear_dae
-from periodyn.nonlinear.stiff import integrate_stiff
+from periodyn.numerics.integration import integrate
+from periodyn.dae import rheo_linear_dae
+from periodyn.numerics.stiff import integrate_stiff
 
 OMEGA = 220.0  # rad/s
 
@@ -143,7 +143,7 @@ def test_nonlinear_pendulum_shooting_agrees_with_long_direct_integration():
 
 def test_nonlinear_outputs_are_the_linear_outputs_to_first_order(crank):
     """Midpoint deflection of small deformations: y(x(q)) - y(x(q^r, 0)) = G q + O(q^2)."""
-    from periodyn.linearize import rheo_linear
+    from periodyn.model.linearization import rheo_linear
 
     p = 8
     G = rheo_linear(crank, OMEGA, p).output_maps[:, 0]  # (p, n_d)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.magnus import MagnusLadder, half_period_signs
+from periodyn.stability.magnus import MagnusLadder, half_period_signs
 
 EPS, MU, NU = 0.3, 0.2, 0.6  # cos 2 theta on the diagonal, cos theta in the coupling, speed
 

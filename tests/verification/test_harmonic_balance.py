@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.timedomain import integrate, monodromy_matrix
+from periodyn.stability.monodromy import integrate, monodromy_matrix
 
 from ..conftest import two_dof_parametric
 

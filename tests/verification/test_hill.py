@@ -61,7 +61,7 @@ def test_two_dof_combination_resonance_complex_exponents():
     assert not hill.stable and not mono.stable
     crit = hill.multipliers[np.argmax(hill.exponents.real)]
     assert abs(crit) > 1 and 0.05 * np.pi < abs(np.angle(crit)) < 0.95 * np.pi
-    from periodyn.boundaries import crossing_type
+    from periodyn.stability.boundaries import crossing_type
 
     assert crossing_type(hill) == "neimark-sacker"
 
@@ -102,7 +102,7 @@ def test_edge_energy_indicates_truncation_error():
 @pytest.mark.parametrize("omega", [0.7, 2.0, 4.1])
 def test_magnus_monodromy_matches_the_adaptive_reference(omega):
     """4th-order Magnus (fixed steps) against DOP853 at rtol 1e-11, and its convergence order."""
-    from periodyn.timedomain import monodromy_exponents
+    from periodyn.stability.monodromy import monodromy_exponents
 
     sys = two_dof_parametric(omega=omega, samples=64)
     ref = periodyn.characteristic_exponents(sys, 0, "monodromy").multipliers

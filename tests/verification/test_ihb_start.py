@@ -4,9 +4,9 @@ speed stepped up to the requested one; an explicit message when nothing works.""
 import numpy as np
 import pytest
 
-from periodyn.continuation import continuation
+from periodyn.arclength import continuation
 from periodyn.nonlinear import ihb
-from periodyn.nonlinear.ihb import IHBProblem
+from periodyn.nonlinear.ihb_solver import IHBProblem
 from periodyn.errors import ConvergenceError
 from periodyn.examples import inverted_pendulum
 

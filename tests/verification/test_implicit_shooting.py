@@ -9,10 +9,10 @@ import scipy.linalg as sla
 
 import periodyn
 from periodyn.errors import InputError
-from periodyn.examples.slider_crank import slider_crank_nonlinear
+from periodyn.examples.slider_crank_rod import slider_crank_nonlinear
 from periodyn.nonlinear.implicit import ImplicitMap
-from periodyn.nonlinear.linear import rheo_linear_dae
-from periodyn.spectra import fourier_coefficients
+from periodyn.dae import rheo_linear_dae
+from periodyn.numerics.spectra import fourier_coefficients
 
 W = 2.0  # rad/s
 

@@ -1,11 +1,11 @@
-"""The one integrator wrapper (periodyn.nonlinear.integrate.solve) against analytic solutions."""
+"""The one integrator wrapper (periodyn.numerics.integration.solve) against analytic solutions."""
 
 import numpy as np
 import pytest
 import scipy.linalg as sla
 
 from periodyn.errors import InputError
-from periodyn.nonlinear.integrate import solve
+from periodyn.numerics.integration import solve
 
 
 def stiff_linear():

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.floquet import STABILITY_TOL
-from periodyn.kernels.floquet import magnus_monodromies
-from periodyn.magnus import MagnusLadder, gauss_angles, magnus_terms
-from periodyn.spectra import synthesize
-from periodyn.timedomain import monodromy_matrix
+from periodyn.stability.floquet import STABILITY_TOL
+from periodyn.kernels.solvers.floquet import magnus_monodromies
+from periodyn.stability.magnus import MagnusLadder, gauss_angles, magnus_terms
+from periodyn.numerics.spectra import synthesize
+from periodyn.stability.monodromy import monodromy_matrix
 
 
 def _magnus_monodromy(model, omega, steps, points):

@@ -6,7 +6,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from periodyn import RheoLinear
-from periodyn.timedomain import monodromy_matrix
+from periodyn.stability.monodromy import monodromy_matrix
 
 
 def test_constant_coefficients_give_the_matrix_exponential():
@@ -41,7 +41,7 @@ def test_exact_callables_are_used():
 def test_coefficients_at_a_time_are_the_fourier_sums_of_the_spectra():
     """The one real product of the stacked spectra (timedomain._coefficients) against the
     definition: the real part of sum_l X_l exp(i l omega t), l = -L..L, for M, C, K and f."""
-    from periodyn.timedomain import _coefficients
+    from periodyn.stability.monodromy import _coefficients
 
     rng = np.random.default_rng(7)
     p, n, omega = 13, 3, 2.5
@@ -64,7 +64,7 @@ def test_the_flow_keeps_only_the_end_state(monkeypatch):
     """The monodromy's integration keeps the end state, not every step: a stiff model takes
     hundreds of thousands of explicit steps, each holding the 2n (2n + 1) variational
     states (the 16-element slider-crank filled 7.6 GB in five minutes)."""
-    from periodyn.nonlinear import variational
+    from periodyn.numerics import variational
 
     kept = []
     solve = variational.solve

@@ -6,8 +6,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from periodyn.examples.slider_crank import slider_crank, slider_crank_model
-from periodyn.linearize import linearize, omega_split, reduced_residual
+from periodyn.examples.slider_crank_rod import slider_crank, slider_crank_model
+from periodyn.model.linearization import linearize, omega_split, reduced_residual
 from periodyn.model import IndependentElement
 
 
@@ -88,8 +88,8 @@ def test_independent_element_adds_its_matrices_through_the_transfer_function():
 
 def test_split_output_maps_give_the_linearized_midpoint_deflection():
     """G q^d equals the change of the (non-linear) midpoint deflection for small q^d."""
-    from periodyn.kinematics import configuration
-    from periodyn.kernels.outputs import midpoint_deflection
+    from periodyn.model.kinematics import configuration
+    from periodyn.kernels.mechanism.outputs import midpoint_deflection
     model = slider_crank_model()
     split = slider_crank(0.02, 16)
     qd = 1e-6 * np.array([1.0, -2.0, 0.5, 3.0])
@@ -104,9 +104,9 @@ def test_split_kernel_equals_reduced_sample_at_each_speed():
     """kernels.split (transfer function differentiated once, element arrays split into powers,
     one product for all powers) against reduced_sample evaluated at each speed, at nominal
     and deformed configurations of a slider-crank with 6 rod elements."""
-    from periodyn.kernels.assembly import reduced_sample
-    from periodyn.kernels.split import split_sample
-    from periodyn.kinematics import configuration
+    from periodyn.kernels.mechanism.assembly import reduced_sample
+    from periodyn.kernels.mechanism.split import split_sample
+    from periodyn.model.kinematics import configuration
 
     model = slider_crank_model(kelvin_voigt=4.8e-5, rod_elements=6)
     arr, n, nd = model.arrays, model.n_coordinates, model.n_dynamic

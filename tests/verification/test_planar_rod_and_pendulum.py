@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from periodyn.examples.elliptic_pendulum import pendulum_from_elements
-from periodyn.examples.slider_crank import (EI, MASS_PER_LENGTH, ROD_LENGTH, first_bending_frequency,
+from periodyn.examples.slider_crank_rod import (EI, MASS_PER_LENGTH, ROD_LENGTH, first_bending_frequency,
                                             slider_crank_model)
 
 CONTINUUM = np.pi**2 * np.sqrt(EI / (MASS_PER_LENGTH * ROD_LENGTH**4))
@@ -58,7 +58,7 @@ def test_element_pendulum_sweep_equals_the_analytic_pendulum():
     """The periodic amplitude and exponents of the element-built pendulum equal those of
     the analytic eq. (29) model (periodyn.examples.pendulum)."""
     import periodyn
-    from periodyn.examples.pendulum import pendulum
+    from periodyn.examples.pendulum_equation import pendulum
     analytic, built = pendulum(samples=32), pendulum_from_elements(samples=32)
     w0 = np.sqrt(9.81)
     for ratio in (0.45, 0.8, 1.1, 1.25):

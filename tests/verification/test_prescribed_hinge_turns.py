@@ -10,7 +10,7 @@ the trapezoidal one-period map over three turns are checked against that closed 
 import numpy as np
 import pytest
 
-from periodyn.kinematics import configuration
+from periodyn.model.kinematics import configuration
 from periodyn.model import Model
 from periodyn.nonlinear.elements import element_dae
 from periodyn.nonlinear.implicit import ImplicitMap

@@ -10,12 +10,12 @@ import importlib
 import numpy as np
 import scipy.linalg as sla
 
-from periodyn.continuation import continuation
+from periodyn.arclength import continuation
 from periodyn.examples.dae_examples import duffing
-from periodyn.nonlinear.krylov import gmres
+from periodyn.numerics.krylov import gmres
 
-driver = importlib.import_module("periodyn.continuation.driver")
-palc = importlib.import_module("periodyn.continuation.palc")
+driver = importlib.import_module("periodyn.arclength.driver")
+palc = importlib.import_module("periodyn.arclength.palc")
 
 
 def test_gmres_with_a_nearby_factorization_solves_to_its_tolerance():

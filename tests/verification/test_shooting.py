@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 
 from periodyn.nonlinear import ihb
-from periodyn.nonlinear.ihb import IHBProblem
+from periodyn.nonlinear.ihb_solver import IHBProblem
 from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples.dae_examples import duffing, rod_pendulum, slider_rod_pendulum
 from periodyn.nonlinear import shooting
-from periodyn.nonlinear.shooting import ShootingProblem
-from periodyn.nonlinear.variational import flow
+from periodyn.nonlinear.shooting_solver import ShootingProblem
+from periodyn.numerics.variational import flow
 
 
 def fd_monodromy(prob, X, omega, h=1e-6):

@@ -10,7 +10,7 @@ of the harmonic balance (measured below, 1e-7)."""
 import numpy as np
 import pytest
 
-from periodyn.continuation import continuation, switch_branch, switch_period_doubling
+from periodyn.arclength import continuation, switch_branch, switch_period_doubling
 from periodyn.errors import InputError
 from periodyn.examples import rod_pendulum
 from periodyn.nonlinear import shooting
@@ -96,7 +96,7 @@ def test_a_saved_and_loaded_branch_switches_like_the_one_in_memory(upper, tmp_pa
     """The special point's refined unknowns and the problem's references go to the file:
     the loaded branch, given its system, switches at its branch point onto the same
     asymmetric branch (short range: the first points past the pitchfork)."""
-    from periodyn.continuation import load_branch
+    from periodyn.arclength import load_branch
     loaded = load_branch(upper.save(tmp_path / "upper.nc"))
     (bp,) = loaded.points("branch-point")
     for a, b in zip(upper.options["special_unknowns"], loaded.options["special_unknowns"]):

@@ -8,9 +8,9 @@ import pytest
 from scipy.linalg import eigh
 from scipy.optimize import brentq
 
-from periodyn.kernels import spatial_beam
-from periodyn.kernels.vector_inertia import add_vector_inertia
-from periodyn.kernels import jets
+from periodyn.kernels.elements import spatial_beam
+from periodyn.kernels.elements.vector_inertia import add_vector_inertia
+from periodyn.kernels.elements import jets
 from periodyn.model.spatial_beam import BeamSection, SpatialBeam
 
 L, RADIUS, RHO, E_MOD, NU = 1.0, 0.03, 7850.0, 210e9, 0.3

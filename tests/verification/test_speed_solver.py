@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.analysis import SpeedSolver, solve_point
+from periodyn.speeds import SpeedSolver, solve_point
 from periodyn.examples.chain import parametric_chain
-import periodyn.harmonic.batch as batch_module
+import periodyn.harmonic.batch_balance as batch_module
 
 from ..conftest import assert_same_spectrum
 
@@ -165,7 +165,7 @@ def test_sweep_across_an_undamped_resonance_flags_only_that_point():
 def test_unresolved_clusters_are_reported_per_speed(monkeypatch):
     """A speed whose Hill clusters cannot be resolved is a failed point with a message
     (NaN exponents, not stable), never a result; its neighbours in the chunk are kept."""
-    import periodyn.hill as hill
+    import periodyn.stability.hill as hill
     from periodyn.errors import ConvergenceError
 
     real_batch = hill.select_clusters_batch
@@ -189,7 +189,7 @@ def test_dense_hill_beyond_the_terms_budget_goes_speed_by_speed(monkeypatch):
     """A model whose real first-order Hill terms would exceed DENSE_TERMS_BYTES builds its
     dense Hill matrix per speed (the terms are never formed) and gets the stacked path's
     exponents."""
-    import periodyn.analysis as analysis
+    import periodyn.speeds as analysis
 
     model = periodyn.examples.slider_crank(damping=0.02, samples=32)
     speeds = np.array([150.0, 220.0, 300.0])

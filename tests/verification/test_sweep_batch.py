@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import periodyn
-from periodyn.analysis import SpeedSolver, solve_point
-import periodyn.harmonic.batch as batch_module
-from periodyn.harmonic.batch import symmetry_classes
-from periodyn.magnus import half_period_signs
+from periodyn.speeds import SpeedSolver, solve_point
+import periodyn.harmonic.batch_balance as batch_module
+from periodyn.harmonic.batch_balance import symmetry_classes
+from periodyn.stability.magnus import half_period_signs
 
 
 @pytest.fixture(scope="module")

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from periodyn.config import load_sweep_file
+from periodyn.studies.spec import load_sweep_file
 from periodyn.engine import backends
 from periodyn.examples import pendulum
-from periodyn.sweep import ExecutionOptions, sweep, sweep_file
+from periodyn.engine.front import ExecutionOptions, sweep, sweep_file
 
 # long enough (dense Hill, ~10 s on one core) that the sweep is still running once its worker
 # has started: the sweep's own process never waits for a worker still starting
@@ -115,7 +115,7 @@ def test_script_without_main_guard_runs_workers_once(tmp_path):
     script.write_text(
         "import numpy as np\n"
         "from periodyn.examples import pendulum\n"
-        "from periodyn.sweep import ExecutionOptions, sweep\n"
+        "from periodyn import ExecutionOptions, sweep\n"
         "print('script body ran', flush=True)\n"
         "ds = sweep(lambda w: pendulum(samples=16).at(w), np.linspace(1.0, 2.0, 6), 3, workers=2,\n"
         "           execution=ExecutionOptions(chunk_size=2, eager_workers=True),\n"

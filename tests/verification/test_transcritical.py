@@ -15,7 +15,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from periodyn import DAE
-from periodyn.continuation import continuation, switch_branch
+from periodyn.arclength import continuation, switch_branch
 from periodyn.errors import InputError
 
 C, BETA, F, W = 0.1, 0.6, 3.0, 2.0

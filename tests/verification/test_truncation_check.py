@@ -12,9 +12,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from periodyn.config import load_sweep_file, project_root
-from periodyn.continuation import confirm_special_points, continuation, load_branch
-from periodyn.continuation.truncation import check_truncation, orbit_defect
+from periodyn.studies.spec import load_sweep_file, project_root
+from periodyn.arclength import confirm_special_points, continuation, load_branch
+from periodyn.arclength.truncation import check_truncation, orbit_defect
 from periodyn.errors import InputError
 from periodyn.examples import rod_pendulum
 

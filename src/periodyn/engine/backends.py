@@ -85,7 +85,7 @@ def _process_context():
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload([__name__, "periodyn._forkserver_preload"])
+    context.set_forkserver_preload([__name__, "periodyn.engine._forkserver_preload"])
     return context
 
 

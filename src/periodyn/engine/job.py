@@ -15,7 +15,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis import SpeedBatch, SpeedSolver, solve_point
+from ..speeds import SpeedBatch, SpeedSolver, solve_point
 from ..errors import ConvergenceError, InputError
 from ..results import STATUS_SOLVED, empty_columns
 from ..system import OmegaSplitModel, RheoLinear
@@ -117,7 +117,7 @@ class Job:
 
     def speed_costs(self) -> np.ndarray:
         """Estimated seconds (n_omega,) of each speed at the first grid point, for sharing
-        the work out (:meth:`periodyn.analysis.SpeedSolver.speed_costs`; every grid point
+        the work out (:meth:`periodyn.speeds.SpeedSolver.speed_costs`; every grid point
         is taken to cost alike); the same at every speed for a callable model
         (_CALLABLE_SECONDS: it builds and solves its system at each speed)."""
         first = (0,) * len(self.source.grid_names)

@@ -28,13 +28,13 @@ def kernels_cached() -> bool:
 
 
 def _speed_solver() -> None:
-    from ..analysis import warm_up as solver_warm_up
+    from ..speeds import warm_up as solver_warm_up
 
     solver_warm_up()
 
 
 def _element_models() -> None:
-    from ..analysis import SpeedSolver
+    from ..speeds import SpeedSolver
     from ..examples import slider_crank
 
     model = slider_crank(samples=16)
@@ -42,7 +42,7 @@ def _element_models() -> None:
 
 
 def _spatial_models() -> None:
-    from ..analysis import SpeedSolver
+    from ..speeds import SpeedSolver
     from ..examples import cardan_shaft
 
     SpeedSolver(cardan_shaft(samples=32), 6, method="magnus").solve_many([400.0])

@@ -35,7 +35,7 @@ import numpy as np
 import scipy.linalg
 
 from ..errors import InputError
-from ..linearize import linearize, omega_split
+from ..model.linearization import linearize, omega_split
 from ..model import BeamSection, Model
 from ..model.spatial import axis_angle
 

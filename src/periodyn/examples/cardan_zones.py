@@ -11,7 +11,7 @@ import argparse
 
 import numpy as np
 
-from ..boundaries import BoundaryCheck, check_boundary, stability_boundaries
+from ..stability.boundaries import BoundaryCheck, check_boundary, stability_boundaries
 from .cardan import cardan_shaft
 
 __all__ = ["cardan_boundaries"]

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..nonlinear.problem import DAE
+from ..dae import DAE
 from ..model.rigid2d import PlanarSystem
 
 __all__ = ["rod_pendulum", "inverted_pendulum", "slider_rod_pendulum", "slider_chain_pendulum", "duffing"]

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..linearize import omega_split
+from ..model.linearization import omega_split
 from ..model import Model
 
 __all__ = ["pendulum_from_elements", "elliptic_pendulum_builder", "elliptic_pendulum_model"]

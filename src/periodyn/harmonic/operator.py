@@ -28,7 +28,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import InputError
-from ..spectra import fourier_coefficients
+from ..numerics.spectra import BAND_RTOL, fourier_coefficients
 from ..system import OmegaSplitModel, RheoLinear
 from .pattern import BlockPattern, block_pattern, real_form, to_real_basis
 
@@ -36,7 +36,6 @@ __all__ = ["HarmonicOperator", "HillOperator", "AliasingWarning", "FORMS", "chec
            "first_order_matrix"]
 
 FORMS = ("direct", "inverse-mass")
-BAND_RTOL = 1e-13  # coefficient harmonics below this fraction of the largest are dropped
 _TAIL_WARN = 1e-6  # spectral tail above which the coefficient sampling is called too coarse
 _NOISE = 1e-14  # coefficients below this fraction of the largest one are round-off
 
@@ -83,7 +82,7 @@ def _harmonic_magnitudes(X: np.ndarray) -> np.ndarray:
 
 
 def _tail(mag: np.ndarray) -> float:
-    """:func:`periodyn.spectra.spectral_tail` from the harmonic magnitudes (2K+1,)."""
+    """:func:`periodyn.numerics.spectra.spectral_tail` from the harmonic magnitudes (2K+1,)."""
     K = (mag.shape[0] - 1) // 2
     scale = mag.max()
     if K == 0 or scale == 0.0:

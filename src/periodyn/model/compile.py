@@ -1,5 +1,5 @@
 """Compiling a :class:`periodyn.model.Model` once into the flat arrays of the kernels
-(:data:`periodyn.kernels.constraints.ModelArrays`): coordinate statuses and the rows of the
+(:data:`periodyn.kernels.mechanism.constraint_system.ModelArrays`): coordinate statuses and the rows of the
 constraint equations ``Phi(x) = rhs0 + rhs_q q``, per-element packed data as wide as the
 widest family present (no global padding), nodal masses and forces, compiled outputs and
 independent elements. The coordinate and mode conventions are those of
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.constraints import ModelArrays
+from ..kernels.mechanism.constraint_system import ModelArrays
 from .elements import FLEXIBLE, FREE, PRESCRIBED, IndependentElement
 from .outputs import OutputMap
 
@@ -24,7 +24,7 @@ __all__ = ["CompiledModel", "compile_model"]
 class CompiledModel:
     """A model compiled for the kernels (built once per model).
 
-    arrays: :class:`periodyn.kernels.constraints.ModelArrays`; coordinate_names (n_x,),
+    arrays: :class:`periodyn.kernels.mechanism.constraint_system.ModelArrays`; coordinate_names (n_x,),
     x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
     q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
     :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
@@ -69,7 +69,7 @@ def compile_model(model) -> CompiledModel:
     """Flatten ``model`` into kernel arrays and check that the constraints determine every
     nodal coordinate exactly once in the reference configuration (and that every dynamic
     coordinate moves mass)."""
-    from ..kinematics import check_constraints, check_inertia
+    from .kinematics import check_constraints, check_inertia
 
     coords = model._coordinate_names()
     index = {c: i for i, c in enumerate(coords)}

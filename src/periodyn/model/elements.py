@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels import planar_beam
-from ..kernels.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS
+from ..kernels.elements import planar_beam
+from ..kernels.elements.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS
 
 RIGID, FLEXIBLE, FREE, PRESCRIBED = "rigid", "flexible", "free", "prescribed"
 MODE_STATUSES = (RIGID, FLEXIBLE, FREE)
@@ -116,7 +116,7 @@ class PlanarBeam:
         return self.rotary_inertia_per_length * l0 * _gauss_integrals(SECTION_ROTATION)[0]
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        """ipar of :mod:`periodyn.kernels.planar_beam` from par = [l0, c_p, c_q]."""
+        """ipar of :mod:`periodyn.kernels.elements.planar_beam` from par = [l0, c_p, c_q]."""
         mass, weights = self.inertia(par[0])
         return planar_beam.pack_inertia(par, mass, weights, self.rotary(par[0]))
 
@@ -151,7 +151,7 @@ class PlanarTruss:
         return self.kelvin_voigt * self.stiffness_matrix(l0)
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        """ipar of :mod:`periodyn.kernels.planar_truss`: [mass (2x2), weights (2,)], kg."""
+        """ipar of :mod:`periodyn.kernels.elements.planar_truss`: [mass (2x2), weights (2,)], kg."""
         mass, weights = _gauss_integrals(LINEAR)
         m = self.mass_per_length * par[0]
         return np.concatenate([m * mass.ravel(), m * weights])

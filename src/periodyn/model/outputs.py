@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.outputs import body_component, midpoint_deflection
+from ..kernels.mechanism.outputs import body_component, midpoint_deflection
 
 __all__ = ["CoordinateOutput", "RelativeRotation", "ModeOutput", "BodyComponent", "OutputMap"]
 

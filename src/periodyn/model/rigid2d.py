@@ -1,9 +1,9 @@
-"""Planar rigid-body builder: bodies, joints, springs, loads -> :class:`~periodyn.nonlinear.problem.DAE`.
+"""Planar rigid-body builder: bodies, joints, springs, loads -> :class:`~periodyn.dae.DAE`.
 
 Bodies have centre-of-mass coordinates (x, y, phi) in m, m, rad, or (x, y) for a point
 mass (a slider block). Gravity acts along -y. Everything the solvers need (M, f, f_q,
 f_q', Phi, Phi_q, sum lam Phi_qq, Phi_t, gamma) is filled by the jitted kernels of
-``periodyn.kernels.rigid2d`` for a whole batch of samples at once.
+``periodyn.kernels.solvers.rigid2d`` for a whole batch of samples at once.
 
 Named parameters scale loads and base motions: ``add_load(..., parameter="f")`` makes
 the load amplitude proportional to ``params["f"]`` (amplitude given per unit parameter).
@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..kernels import rigid2d as K
-from ..nonlinear.problem import DAE
+from ..kernels.solvers import rigid2d as K
+from ..dae import DAE
 
 __all__ = ["PlanarSystem"]
 
@@ -204,7 +204,7 @@ class PlanarSystem:
                              constraint_hessian=constraint_hessian, constraint_rates=constraint_rates,
                              mass_jacobian=None, q0=q0, parameters=dict(self._params),
                              coordinate_names=coordinate_names, constraint_names=cnames, name=self.name)
-        # the packed arrays for fused kernels (periodyn.kernels.rigid2d_flow): model tuple, and the
+        # the packed arrays for fused kernels (periodyn.kernels.solvers.rigid2d_flow): model tuple, and the
         # joint and load data at parameters P
         model = (np.ascontiguousarray(Mconst[None]), weight, kint, kflt, lint, np.asarray(start, np.int64),
                  np.asarray(rot, np.int64), jint, jraw, sint, sflt)

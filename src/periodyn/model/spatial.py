@@ -1,6 +1,6 @@
 """Spatial model data: orientation nodes (Euler parameters), the spatial truss, the
 spatial hinge (SPACAR style), the universal joint built from two hinges, and rigid bodies
-(kernels: :mod:`periodyn.kernels.spatial_joints`, ``spatial_truss``, ``rigid_body``).
+(kernels: :mod:`periodyn.kernels.elements.spatial_joints`, ``spatial_truss``, ``rigid_body``).
 
 Coordinates of a spatial model: every point ``"<p>.x", "<p>.y", "<p>.z"`` (m), every
 orientation node ``"<R>.l0" .. "<R>.l3"`` (Euler parameters, scalar first, body to global),
@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.layout import (FAMILY_EULER_NORMALIZATION, FAMILY_RIGID_BODY, FAMILY_RIGID_LINK,
+from ..kernels.elements.layout import (FAMILY_EULER_NORMALIZATION, FAMILY_RIGID_BODY, FAMILY_RIGID_LINK,
                               FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
-from ..kernels.rotation import product, rotation_matrix
+from ..kernels.elements.rotation import product, rotation_matrix
 from .elements import PlanarTruss
 
 __all__ = ["EulerNormalization", "SpatialTruss", "SpatialHinge", "RigidBody", "RigidLink", "euler_parameters", "axis_angle",
@@ -136,7 +136,7 @@ class SpatialHinge:
     """Spatial hinge between orientation nodes (p, q) about ``axis`` (3,), a unit vector in
     global components in the reference configuration. Modes (rotation, misalignment_2,
     misalignment_3) in rad: the rotation of q relative to p about the axis and two small
-    rotations about axes normal to it (see :mod:`periodyn.kernels.spatial_joints`).
+    rotations about axes normal to it (see :mod:`periodyn.kernels.elements.spatial_joints`).
     rotational_stiffness (N m/rad) and rotational_damping (N m s/rad) act on the rotation
     when it is free or flexible, with a constant moment ``torque`` (N m) resisting
     positive rotation."""

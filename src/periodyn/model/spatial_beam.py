@@ -1,5 +1,5 @@
 """The spatial beam as model data: reference geometry -> kernel parameters, material data
--> stiffness, damping and inertia parameters (kernel: :mod:`periodyn.kernels.spatial_beam`).
+-> stiffness, damping and inertia parameters (kernel: :mod:`periodyn.kernels.elements.spatial_beam`).
 
 A beam joins two points (coordinates ``"<p>.x", "<p>.y", "<p>.z"``) and two orientation
 nodes (Euler parameters ``"<R>.l0" .. "<R>.l3"``, scalar first, ``(cos(phi/2), sin(phi/2) n)``
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.layout import FAMILY_SPATIAL_BEAM
-from ..kernels.rotation import rotation_matrix
+from ..kernels.elements.layout import FAMILY_SPATIAL_BEAM
+from ..kernels.elements.rotation import rotation_matrix
 
 MODE_NAMES = ("elongation", "torsion", "bending_z_p", "bending_z_q", "bending_y_p", "bending_y_q")
 
@@ -157,7 +157,7 @@ class SpatialBeam:
         return np.full(6, float(beta)) if beta.ndim == 0 else beta
 
     def inertia_parameters(self, par: np.ndarray) -> np.ndarray:
-        """ipar (24,) of :func:`periodyn.kernels.spatial_beam.inertia`."""
+        """ipar (24,) of :func:`periodyn.kernels.elements.spatial_beam.inertia`."""
         sec = self.section
         E = section_second_moments(sec.polar_inertia, sec.rotary_inertia_y, sec.rotary_inertia_z)
         return np.concatenate([par, [sec.mass_per_length], E, [1.0 if self.lumped_rotary else 0.0]])

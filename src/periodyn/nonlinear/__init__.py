@@ -1,28 +1,14 @@
-"""Full non-linear equations of DAE/ODE models: the problem type (``problem.DAE``), the one Newton
-(``newton``), the one integrator wrapper (``integrate.solve``, explicit or implicit with an
-analytic Jacobian) and stabilized index-1 integration (``integrate``), stiff integration of
-ODE models (``stiff``), the phase-time flow with variational equations (``flow``: monodromy
-columns and parameter sensitivities), steady state, single/multiple shooting with monodromy
-multipliers; element models (``elements``) and rheo-linear systems (``linear``) as ODE
-problems of the same type; EGA-IHB (``ihb``, with its real coefficient layout ``ihb_fourier``
-and sparse Jacobian ``ihb_jacobian``) and the perturbation equations about an orbit in
-independent coordinates as a ``periodyn.RheoLinear`` (``orbit_linearization``).
+"""The full non-linear equations of DAE/ODE models (a :class:`periodyn.DAE`), solved for
+periodic orbits: EGA-IHB (``ihb_solver``, with its real coefficient layout ``ihb_fourier``
+and sparse Jacobian ``ihb_jacobian``), single/multiple shooting with monodromy multipliers
+(``shooting``; ``implicit`` for stiff element models, ``jacobian_reuse`` for the Broyden
+corrector along a continuation); element models as ODE problems (``elements``) and the
+perturbation equations about an orbit in independent coordinates as a
+:class:`periodyn.RheoLinear` (``orbit_linearization``). The time integration, Newton and
+variational flow they use live in :mod:`periodyn.numerics`."""
 
-Public names are imported on first use: the time-domain core (``integrate``, ``variational``)
-is imported by ``periodyn.timedomain``, which Hill's method and the orbit linearization use
-in turn, so loading IHB with the package would close an import cycle."""
+from .elements import element_dae, element_outputs
+from .ihb_solver import IHBProblem, ihb
+from .shooting_solver import ShootingProblem, shooting
 
-from __future__ import annotations
-
-from .._lazy import lazy_package
-
-#: public name -> submodule that defines it
-_LAZY = {
-    "DAE": "problem", "IHBProblem": "ihb", "ihb": "ihb", "NewtonResult": "newton", "newton": "newton",
-    "TimeHistory": "integrate", "integrate": "integrate", "consistent_state": "integrate",
-    "steady_state": "integrate", "ShootingProblem": "shooting", "shooting": "shooting",
-    "element_dae": "elements", "element_outputs": "elements", "integrate_stiff": "stiff",
-    "rheo_linear_dae": "linear", "Flow": "variational", "flow": "variational",
-}
-
-__all__ = lazy_package(__name__, _LAZY)
+__all__ = ["IHBProblem", "ShootingProblem", "element_dae", "element_outputs", "ihb", "shooting"]

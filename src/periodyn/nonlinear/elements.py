@@ -9,7 +9,7 @@ the rigid motion is, with unit mass and the force the dynamic accelerations
     q̈^d = g(q^d, q̇^d, t) = -M̄⁻¹ F_dᵀ (M F_qq q̇ q̇ - f)      (eq. 4 solved for q̈^d)
 
 and its Jacobians ``-M̄⁻¹ K̄``, ``-M̄⁻¹ C̄`` at the actual accelerations (implicit
-differentiation of eq. 4, :mod:`periodyn.kernels.nonlinear`). Keeping q^d as the only
+differentiation of eq. 4, :mod:`periodyn.kernels.mechanism.equations`). Keeping q^d as the only
 coordinates (rather than adding q^r with a rheonomic constraint) keeps every coordinate
 periodic, so harmonic balance, spectra and the periodic-solution type apply unchanged,
 and needs no constraint stabilization in time integration.
@@ -27,11 +27,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..kernels import assembly
-from ..kernels import nonlinear as kernel
-from ..kernels.outputs import body_component, midpoint_deflection
-from ..kinematics import MAX_HALVINGS, NEWTON_MAX_ITER, _tolerance
-from .linear import ode
+from ..kernels.mechanism import assembly
+from ..kernels.mechanism import equations as kernel
+from ..kernels.mechanism.outputs import body_component, midpoint_deflection
+from ..model.kinematics import MAX_HALVINGS, NEWTON_MAX_ITER, _tolerance
+from ..dae import ode
 
 __all__ = ["as_dae", "element_dae", "element_outputs", "reduced_equations"]
 
@@ -156,7 +156,7 @@ def as_dae(system, caller: str):
     ``periodyn.DAE`` as it is, an element model (``periodyn.model.Model``, compiled here,
     or ``CompiledModel``) as its full non-linear equations :func:`element_dae`. Anything
     else is refused (InputError naming what to pass)."""
-    from .problem import DAE
+    from ..dae import DAE
     from ..model import CompiledModel, Model
 
     if isinstance(system, DAE):

@@ -3,7 +3,7 @@
 Per coordinate the ``2H+1`` real coefficients are ``[a_0, a_1..a_H, b_1..b_H]`` of
 ``x(tau) = a_0 + sum_k a_k cos(k tau) + b_k sin(k tau)``, ``tau = Omega t`` with
 ``Omega = omega / nu`` (nu = 1 for period T = 2 pi / omega, nu = 2 for a period-doubled
-orbit). Conversions to the two-sided spectra of ``periodyn.spectra`` (index k + H) are
+orbit). Conversions to the two-sided spectra of ``periodyn.numerics.spectra`` (index k + H) are
 exact; transforms go through pyFFTW there.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spectra import fourier_coefficients, to_samples
+from ..numerics.spectra import fourier_coefficients, to_samples
 
 __all__ = ["real_to_complex", "complex_to_real", "derivative_matrix", "product_blocks", "spectrum_blocks",
            "real_samples", "real_coefficients"]

@@ -1,6 +1,6 @@
 """The IHB Newton Jacobian on a fixed sparsity pattern: built once, filled per Newton step.
 
-The Jacobian of the harmonic-balance residual (``periodyn.nonlinear.ihb``) is a sparse matrix of
+The Jacobian of the harmonic-balance residual (``periodyn.nonlinear.ihb_solver``) is a sparse matrix of
 (2H+1)x(2H+1) blocks, one per pair of coordinates (or coordinate and multiplier) whose sampled
 derivative matrices are non-zero somewhere on the orbit:
 
@@ -33,7 +33,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from ..spectra import fourier_coefficients
+from ..numerics.spectra import fourier_coefficients
 from .ihb_fourier import spectrum_blocks
 
 __all__ = ["entry_classes", "JacobianPattern", "FillOrdering", "block_needs"]

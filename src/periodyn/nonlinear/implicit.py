@@ -1,7 +1,7 @@
 """Shooting of element models on a fixed-step implicit one-period map, entirely in Numba
 (``periodyn.shooting(element_dae(model), omega, method="implicit")``).
 
-The period is integrated in N steps of the trapezoidal rule (:mod:`periodyn.kernels.implicit`)
+The period is integrated in N steps of the trapezoidal rule (:mod:`periodyn.kernels.solvers.implicit`)
 with simplified Newton per step and the analytic acceleration Jacobians -M̄⁻¹K̄, -M̄⁻¹C̄ of the
 element kernel; the monodromy matrix is that of the discrete map, propagated with the
 converged step Jacobians, so shooting Newton gets the exact Jacobian of the map it solves.
@@ -35,12 +35,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..floquet import FloquetExponents
-from ..kernels import implicit as kernel
-from ..kinematics import MAX_HALVINGS, NEWTON_MAX_ITER
+from ..stability.floquet import FloquetExponents
+from ..kernels.solvers import implicit as kernel
+from ..model.kinematics import MAX_HALVINGS, NEWTON_MAX_ITER
 from ..periodic import PeriodicSolution
-from ..spectra import fourier_coefficients
-from .newton import newton
+from ..numerics.spectra import fourier_coefficients
+from ..numerics.newton_iteration import newton
 
 __all__ = ["ImplicitMap", "ImplicitProblem", "implicit_shooting", "STEPS"]
 

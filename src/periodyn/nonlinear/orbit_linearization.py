@@ -13,7 +13,7 @@ gives the null-space basis ``N(t) = [I; -Phi_v^-1 Phi_u]`` (in the original orde
 with N', N'' by spectral differentiation of the samples of N. The result is the same
 ``periodyn.RheoLinear`` the rheo-linear path uses (omega = the orbit's base frequency
 omega/nu, so its period is the orbit period), so Hill (dense/sparse), Magnus and the
-monodromy reference of ``periodyn.hill.characteristic_exponents`` all give the orbit's
+monodromy reference of ``periodyn.stability.hill.characteristic_exponents`` all give the orbit's
 Floquet exponents (:func:`orbit_exponents`).
 """
 
@@ -25,11 +25,11 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError, InputError
-from ..floquet import FloquetExponents
-from ..hill import hill_exponents
-from ..spectra import fourier_coefficients, to_samples
+from ..stability.floquet import FloquetExponents
+from ..stability.hill import hill_exponents
+from ..numerics.spectra import fourier_coefficients, to_samples
 from ..system import RheoLinear
-from ..timedomain import monodromy_exponents
+from ..stability.monodromy import monodromy_exponents
 
 __all__ = ["OrbitLinearization", "linearize_orbit", "orbit_exponents", "STABILITY_METHODS"]
 

@@ -2,7 +2,7 @@
 linearized equations in the stationary and co-rotating frames, Campbell diagrams."""
 
 from .element_rotor import ElementRotor, spatial_rotor, spatial_rotor_model
-from .campbell import BACKWARD, FORWARD, campbell, stability_threshold, stored_campbell
+from .diagram import BACKWARD, FORWARD, campbell, stability_threshold, stored_campbell
 from .files import load_rotor
 from .elements import Bearing, Disk, PointMass, Seal, ShaftSection, shaft_element
 from .model import Rotor, RotorEquations, RotorModel

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..linearize import linearize, omega_split
+from ..model.linearization import linearize, omega_split
 from ..model import BeamSection, Model
 from ..model.elements import IndependentElement
 from ..model.model import CompiledModel
@@ -88,7 +88,7 @@ class ElementRotor:
             raise InputError(
                 f"rotor '{model.name}': its co-rotating equations depend on the spin angle (relative variation "
                 f"{drift:.2g}: an anisotropic bearing or seal, or a non-axisymmetric shaft); sweep the "
-                "element model's periodic system instead (periodyn.linearize.omega_split, Hill's method) or use a "
+                "element model's periodic system instead (periodyn.model.linearization.omega_split, Hill's method) or use a "
                 "Rotor in frame='stationary'")
         damping = [split.damping[k][0] if k < len(split.damping) else np.zeros_like(split.mass[0]) for k in range(2)]
         stiffness = [split.stiffness[k][0] if k < len(split.stiffness) else np.zeros_like(split.mass[0])

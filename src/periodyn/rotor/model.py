@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..linearize import independent_terms
+from ..model.linearization import independent_terms
 from ..model.elements import IndependentElement
-from ..spectra import sample_angles
+from ..numerics.spectra import sample_angles
 from ..system import RheoLinear
 from .elements import (STATION_COORDINATES, Bearing, Disk, PointMass, ShaftSection, internal_damping, shaft_element,
                        spin_generator)

@@ -1,0 +1,381 @@
+"""``continuation``: response curves of a ``periodyn.DAE`` by IHB or shooting.
+
+A discretization (:class:`_IHB`, :class:`_Shooting`, :class:`_Implicit`, each a
+:class:`_Discretization`) gives ``equations(X, omega, P)``,
+``residual``, ``exponents`` (Floquet, or None) and ``solution``; the arc-length driver
+(``palc``) sees only ``R(X, p)``; special points are classified and refined by ``events``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..nonlinear.ihb_solver import IHBProblem, ihb
+from ..nonlinear.orbit_linearization import STABILITY_METHODS
+from ..errors import ConvergenceError, InputError
+from ..nonlinear.jacobian_reuse import ChordEquations
+from ..nonlinear.elements import as_dae
+from ..numerics.newton_iteration import lu_factor, newton
+from ..nonlinear.implicit import STEPS, ImplicitProblem
+from ..nonlinear.shooting_solver import ShootingProblem, start_state
+from .branch import Branch, SpecialPoint
+from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
+from .palc import Arc, first_point, trace
+
+__all__ = ["ContinuationOptions", "trace_branch"]
+
+_AT_START = 1e-8  # |test function| at the start point below which the start is the special point
+_FTOL = {"fold": 1e-10, "crossing": 1e-9}  # |test function| at which a refinement stops (dp/ds; |mu| - 1 or |mu - 1|)
+_REUSE_SIZE = 1000  # IHB unknowns from which the corrector reuses factorizations (palc, reuse mode)
+
+
+@dataclass(frozen=True)
+class ContinuationOptions:
+    """Step control and discretization options of :func:`continuation`.
+
+    ds, ds_min, ds_max: initial, smallest and largest arc-length step (scaled norm, see
+    ``palc``); max_points: branch points at most; tol: residual max-norm (default 1e-8 for
+    IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
+    (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
+    of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
+    its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: True
+    checks every special point (``confirm_special_points``, its defaults: truncation, then
+    direct integration), "truncation" only against more harmonics (``check_truncation``);
+    shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
+    models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
+    shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
+    """
+
+    ds: float = 0.02
+    ds_min: float = 1e-5
+    ds_max: float = 0.2
+    max_points: int = 400
+    tol: float | None = None
+    max_iter: int = 7
+    samples: int | None = None
+    subharmonic: int = 1
+    stability: str | None = "magnus"
+    shooting_samples: int = 128
+    confirm: bool | str = False
+    shooting_method: str = "auto"
+    shooting_steps: int = STEPS
+
+    def __post_init__(self):
+        if not (0 < self.ds_min <= self.ds_max) or self.ds <= 0:
+            raise InputError(f"steps must satisfy 0 < ds_min <= ds_max and ds > 0, got ds={self.ds}, "
+                             f"ds_min={self.ds_min}, ds_max={self.ds_max}")
+        if self.max_points < 2 or self.max_iter < 1:
+            raise InputError("max_points must be >= 2 and max_iter >= 1")
+        if self.confirm not in (True, False, "truncation"):
+            raise InputError(f"confirm must be True, False or 'truncation', got {self.confirm!r}")
+        if self.shooting_method not in ("auto", "DOP853", "implicit"):
+            raise InputError(f"shooting_method must be 'auto', 'DOP853' or 'implicit', got {self.shooting_method!r}")
+        if self.stability is not None and self.stability not in STABILITY_METHODS:
+            raise InputError(f"stability must be one of {STABILITY_METHODS} or None, got {self.stability!r}")
+
+
+class _Discretization:
+    """Residual R(X, omega, P) and Jacobian of a discretization's problem ``prob``:
+    ``equations`` for the corrector (a subclass may reuse Jacobians), ``exact_equations``
+    for tangents and special points, ``residual`` alone."""
+
+    def exact_equations(self, X, om, P):
+        return self.prob.equations(X, om, P)
+
+    def equations(self, X, om, P):
+        return self.exact_equations(X, om, P)
+
+    def residual(self, X, om, P):
+        return self.prob.residual(X, om, P)
+
+
+class _IHB(_Discretization):
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+        self.prob = IHBProblem(system, harmonics, opts.samples, opts.subharmonic)
+        self.tol = 1e-8 if opts.tol is None else opts.tol
+        self.stability = opts.stability
+        n, L = system.n, self.prob.L
+        self.groups = [np.arange(n * L), np.arange(n * L, self.prob.size)]
+        X0 = self.prob.from_solution(initial) if initial is not None else self.prob.initial(omega=om0, params=P0)
+        self.X0 = self.prob.newton(X0, om0, P0, self.tol).x
+
+    def exact_equations(self, X, om, P):
+        return self.prob.residual_jacobian(X, om, P)
+
+    def exponents(self, X, om, P):
+        return None if self.stability is None else self.prob.exponents(X, om, P, self.stability)
+
+    def solution(self, X, om, P, rn, it, exps):
+        return self.prob.solution(X, om, P, rn, it, exps)
+
+
+class _Shooting(_Discretization):
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0, parameter=None):
+        self.tol = 1e-9 if opts.tol is None else opts.tol
+        self.H = harmonics
+        if initial is None:  # start from the IHB orbit at the first parameter value
+            initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
+                          params=P0)
+        q, qd = start_state(system, initial, om0, P0)
+        self.prob = ShootingProblem(system, q, opts.subharmonic, samples=opts.shooting_samples, parameter=parameter)
+        self.groups = None
+        self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
+        self.chord = ChordEquations(self.prob, self.tol)
+
+    def equations(self, X, om, P):  # reused Jacobians between exact ones (nonlinear.chord)
+        return self.chord.equations(X, om, P)
+
+    def parameter_derivative(self, X, om, P):
+        return self.chord.parameter_derivative(X, om, P)
+
+    def exponents(self, X, om, P):
+        return self.prob.exponents(X, om, P)
+
+    def solution(self, X, om, P, rn, it, exps):
+        return self.prob.solution(X, om, P, rn, it, exps, self.H)
+
+
+class _Implicit(_Discretization):
+    """Shooting on the trapezoidal one-period map of an element model (``ImplicitProblem``)."""
+
+    def __init__(self, system, harmonics, opts: ContinuationOptions, initial, om0, P0):
+        self.tol = 1e-9 if opts.tol is None else opts.tol
+        self.H = harmonics
+        self.prob = ImplicitProblem(system, opts.subharmonic, opts.shooting_steps, opts.shooting_samples, self.tol)
+        if initial is None:
+            initial = ihb(system, om0, harmonics, samples=opts.samples, subharmonic=opts.subharmonic, stability=None,
+                          params=P0)
+        q, qd = start_state(system, initial, om0, P0)
+        self.groups = None
+        self.X0 = self.prob.newton(self.prob.state(q, qd), om0, P0, self.tol).x
+        self._last = (None, None)
+
+    def _solution(self, X, om, P):
+        key = (np.asarray(X, float).tobytes(), float(om))
+        if self._last[0] != key:
+            self._last = (key, self.prob.solution(X, om, P, 0.0, 0, self.H))
+        return self._last[1]
+
+    def exponents(self, X, om, P):  # of the extrapolated monodromy, as pointwise implicit shooting
+        return self._solution(X, om, P).stability
+
+    def solution(self, X, om, P, rn, it, exps):
+        return replace(self._solution(X, om, P), residual=float(rn), iterations=int(it))
+
+
+def _implicit(system, opts: ContinuationOptions) -> bool:
+    """Whether shooting continuation uses the implicit map (option, or "auto": element models)."""
+    if opts.shooting_method != "auto":
+        return opts.shooting_method == "implicit"
+    return hasattr(getattr(system, "equations", None), "configurations")
+
+
+def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", parameter: tuple | None = None, *,
+                 initial=None, tangent=None, options: ContinuationOptions | None = None, progress=None,
+                 **option_values) -> Branch:
+    """Response curve of a ``periodyn.DAE`` or an element model (its non-linear equations,
+    ``element_dae``) by pseudo-arc-length continuation -> Branch.
+
+    omega: (start, stop) rad/s for a frequency response, or a fixed value when
+    ``parameter=(name, start, stop)`` continues a named parameter. method: "ihb" (H =
+    harmonics) or "shooting" (spectra truncated to H). initial: a PeriodicSolution at the
+    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
+    options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
+    fields. progress: None or a callable (points so far, parameter value (omega for a
+    frequency response) of the newest point). Every point carries its residual and Newton iterations (chord
+    updates for IHB problems of ``_REUSE_SIZE`` unknowns or more, see ``palc``); non-converged points are never
+    recorded.
+    """
+    opts = replace(options or ContinuationOptions(), **_known(option_values))
+    system = as_dae(system, "continuation")
+    if parameter is None:
+        try:
+            p0, p1 = (float(v) for v in omega)
+        except TypeError:
+            raise InputError("omega must be (start, stop) in rad/s, or give parameter=(name, start, stop)") from None
+        name = None
+    else:
+        if len(parameter) != 3 or parameter[0] not in system.parameters:
+            raise InputError(f"parameter must be (name, start, stop) with name in {sorted(system.parameters)}")
+        name, p0, p1 = parameter[0], float(parameter[1]), float(parameter[2])
+
+    def at(p):
+        """(omega, parameters) of parameter value p."""
+        return (p, system.parameters) if name is None else (float(omega), dict(system.parameters, **{name: p}))
+
+    if method not in ("ihb", "shooting"):
+        raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
+    if method == "ihb":
+        disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    elif _implicit(system, opts):
+        if name is not None:
+            raise InputError("shooting on the implicit map continues omega only; give shooting_method='DOP853' "
+                             "for a parameter curve")
+        disc, dR_dp = _Implicit(system, harmonics, opts, initial, *at(p0)), None
+    else:
+        disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
+        dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
+    arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
+              reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
+
+    def record(pt):
+        exps = disc.exponents(pt.X, *at(pt.p))
+        return disc.solution(pt.X, *at(pt.p), pt.residual, pt.iterations, exps)
+
+    pts = [first_point(arc, disc.X0, p0, p1, tangent)]
+    sols = [record(pts[0])]
+    specials, status, loose, unknowns = [], "", set(), {}
+    for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
+        if isinstance(item, str):
+            status = item
+            break
+        pts.append(item)
+        sols.append(record(item))
+        if progress is not None:
+            progress(len(pts), item.p)
+        for sp, unbracketed, X in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
+            unknowns[id(sp)] = X
+            _add_special(specials, sp, [pt.p for pt in pts], unbracketed, loose)
+    options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
+                   special_unknowns=tuple(unknowns[id(sp)] for sp in specials),
+                   samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
+                                                           if f.name not in ("tol", "samples")})
+    branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
+                                   np.array([pt.X for pt in pts]))
+    return branch
+
+
+def _known(values: dict) -> dict:
+    names = {f.name for f in fields(ContinuationOptions)}
+    unknown = set(values) - names
+    if unknown:
+        raise InputError(f"unknown continuation option(s) {sorted(unknown)}; options are {sorted(names)}")
+    return values
+
+
+def _add_special(specials: list, sp: SpecialPoint, p: list, unbracketed: bool, loose: set) -> None:
+    """Append sp to specials unless a point of its type in the adjacent bracket before it
+    is the same point: both refined and one to the refinement tolerance
+    (``events.same_point``; the one with the smaller |test function| stays), or one refined
+    and the other ``unbracketed`` (the multiplier count changed in its bracket but its test
+    function did not change sign: the count saw the crossing refined next door; the refined
+    one stays). p: parameter values of the branch points so far (p[k] is the point the two
+    brackets share); loose: ids of the unbracketed points in specials (updated)."""
+    k = sp.index
+    for i, q in enumerate(specials):
+        if q.type != sp.type or q.index != k - 1:
+            continue
+        refined = q.test_values is not None, sp.test_values is not None
+        if refined == (True, False) and unbracketed:
+            return
+        if refined == (False, True) and id(q) in loose:
+            loose.discard(id(q))
+            specials[i] = sp
+            return
+        if all(refined) and same_point(q.parameter, q.test_values[2], sp.parameter, sp.test_values[2], p[k],
+                                       sp.test_values[0], _FTOL["fold" if sp.type == "fold" else "crossing"]):
+            if abs(sp.test_values[2]) < abs(q.test_values[2]):
+                specials[i] = sp
+            return
+    if unbracketed:
+        loose.add(id(sp))
+    specials.append(sp)
+
+
+def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialPoint, bool, np.ndarray | None]]:
+    """Classified and refined special points between accepted points a and b (index k),
+    each with whether its test function failed to change sign over the bracket and with
+    the discretization's unknowns there (None when refinement failed; branch switching
+    starts from them)."""
+    out = []
+    for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
+        if typ == "fold":
+            found = _refine_fold(arc, a, b)
+        else:
+            test = branch_test if typ == "branch-point" else (lambda mu, typ=typ: crossing_test(mu, typ))
+            bracket = (test(sol_a.multipliers), test(sol_b.multipliers))
+            if k == 0 and abs(bracket[0]) < _AT_START:
+                continue  # the start is this special point itself (a branch switched from it)
+            found = _refine_crossing(arc, disc, at, a, b, test, bracket)
+        if found is None:  # refinement failed: linear interpolation, no orbit
+            p = a.p + s_lin * (b.p - a.p)
+            amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
+            unbracketed = typ != "fold" and not np.sign(bracket[0]) * np.sign(bracket[1]) < 0
+            out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed, None))
+            continue
+        X, p, rn, tests = found
+        exps = disc.exponents(X, *at(p))
+        sol = disc.solution(X, *at(p), rn, 0, exps)
+        if typ != "fold":
+            mu = sol.multipliers
+            crit = complex(mu[int(np.argmin(np.abs(mu - 1)))]) if typ == "branch-point" else nearest_of_kind(
+                mu, KINDS[typ])
+        vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
+        out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
+                                 np.asarray(tests, float)), False, np.array(X, float)))
+    return out
+
+
+def _null_vector(J, sweeps: int = 4) -> np.ndarray:
+    """Unit null vector of the (nearly) singular Jacobian J at a fold or branch point, by
+    inverse iteration with one factorization of J (the critical direction in the unknowns)."""
+    solve = lu_factor(J)
+    v = np.ones(J.shape[0]) / np.sqrt(J.shape[0])
+    for _ in range(sweeps):
+        v = solve(v)
+        v /= np.linalg.norm(v)
+    return v * np.sign(v[int(np.argmax(np.abs(v)))])
+
+
+def _refine_fold(arc, a, b):
+    """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
+    by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
+    L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
+    ta = a.t / arc.norm(a.t)  # unit in the arc's present scale (it may have grown since a)
+
+    def g(s, *_):
+        try:
+            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True, start=a)
+        except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
+            return None
+        return pt.t[arc.N], pt
+
+    end = g(1.0)
+    if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
+        return None
+    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=_FTOL["fold"], stol=1e-12)
+    if res is None:
+        return None
+    pt = res[1]
+    return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
+
+
+def _refine_crossing(arc, disc, at, a, b, test, bracket):
+    """Parameter where the test function of the multipliers vanishes between a and b
+    (bracket: its values there; fixed-parameter Newton from the interpolated bracket
+    solutions); returns (X, p, residual, (test at a, b, there)) or None."""
+    def g(s, lo, hi):
+        (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
+        f = (s - sa) / (sb - sa) if sb != sa else 0.5
+        p = a.p + s * (b.p - a.p)
+        try:  # exact Jacobians: a fixed-parameter Newton far from the corrector's last point
+            res = newton(lambda X: disc.exact_equations(X, *at(p)), Xa + f * (Xb - Xa), tol=arc.tol, max_iter=12,
+                         label="special point", hint="")
+        except ConvergenceError:
+            return None
+        return test(disc.exponents(res.x, *at(p)).multipliers), (res.x, res.residual)
+
+    if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
+        return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
+    stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
+    res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
+                   ftol=_FTOL["crossing"], stol=stol, max_iter=30)
+    if res is None:
+        return None
+    s, (X, rn) = res
+    p = a.p + s * (b.p - a.p)
+    return X, p, rn, (bracket[0], bracket[1], test(disc.exponents(X, *at(p)).multipliers))

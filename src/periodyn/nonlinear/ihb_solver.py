@@ -1,0 +1,307 @@
+"""EGA-IHB: harmonic balance of ``M q'' + Phi_q^T lambda = f``, ``Phi = 0`` (Ju, Fan & Zhu 2021).
+
+Unknowns X: real Fourier coefficients (``periodyn.nonlinear.ihb_fourier`` layout) of the n
+coordinates and the m multipliers, coordinate-major: ``X[i*(2H+1) + r]``; size
+``(n + m)(2H+1)``. Residual: Galerkin coefficients of
+``r1 = M(q) q'' + Phi_q^T lambda - f(q, q', t)`` (n rows, N or N m) and ``r2 = Phi(q, t)``
+(m rows, m or rad), evaluated by alternating frequency-time (App. A): coefficients ->
+samples (pyFFTW) -> per-sample evaluation -> FFT.
+
+Newton Jacobian (no finite differences): per-sample derivative matrices
+``K = -df/dq + sum lam_k Phi_k,qq (+ d(M a)/dq)``, ``C = -df/dq'``, ``M``, ``Phi_q`` are
+turned into (2H+1)x(2H+1) coefficient blocks by FFT (``product_blocks``) on a sparsity
+pattern fixed at the first evaluation (``periodyn.nonlinear.ihb_jacobian``: dense blocks only for
+entries that vary along the orbit, c I / c D / c D^2 for constant ones, a fill-reducing
+ordering chosen once), factorised by SuperLU.
+
+Sampling rule (anti-aliasing): the Jacobian blocks need the spectra of the sampled
+matrices up to harmonic 2H, and a cubic term q^3 has 3H harmonics that must not fold
+onto harmonics <= H. Both hold for ``p >= min_samples(H, 2H) = 6H + 1`` (product of a
+series with H harmonics and coefficients with 2H harmonics); the default p is that
+bound rounded up to an FFT-friendly size. Other non-linearities (sin, cos of angles) are
+not band-limited: raise ``samples`` and check convergence in H.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..errors import ConvergenceError, InputError
+from .elements import as_dae
+from ..numerics.newton_iteration import newton
+from ..periodic import PeriodicSolution
+from ..numerics.spectra import min_samples, sample_angles
+from .ihb_fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
+from .ihb_jacobian import JacobianPattern, block_needs
+from .orbit_linearization import linearize_orbit, orbit_exponents
+from ..dae import DAE
+
+__all__ = ["IHBProblem", "ihb", "default_samples"]
+
+
+def default_samples(H: int) -> int:
+    """Smallest 2^a 3^b >= min_samples(H, 2H) = 6H + 1 (see module docstring)."""
+    need = min_samples(H, 2 * H)
+    best = None
+    for a in range(0, 20):
+        for b in range(0, 13):
+            v = 2 ** a * 3 ** b
+            if v >= need and (best is None or v < best):
+                best = v
+    return best
+
+
+class IHBProblem:
+    """Residual R(X) and sparse Jacobian of the harmonic-balance equations of one DAE.
+
+    harmonics H, samples p, subharmonic nu (orbit period nu 2 pi / omega).
+    """
+
+    def __init__(self, system: DAE, harmonics: int, samples: int | None = None, subharmonic: int = 1):
+        if not isinstance(system, DAE):
+            raise InputError(f"expected a periodyn.DAE, got {type(system).__name__}")
+        if not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
+            raise InputError(f"harmonics must be a positive integer, got {harmonics!r}")
+        self.system = system
+        self.H = int(harmonics)
+        self.p = int(samples) if samples is not None else default_samples(self.H)
+        if self.p < 4 * self.H + 1:
+            raise InputError(f"{self.p} samples are too few for {self.H} harmonics: the Jacobian needs the spectra "
+                             f"up to harmonic {2 * self.H}; use samples >= {4 * self.H + 1} (default {default_samples(self.H)})")
+        self.nu = int(subharmonic)
+        self.n, self.m = system.n, system.m
+        self.L = 2 * self.H + 1
+        self.size = (self.n + self.m) * self.L
+        self.D = derivative_matrix(self.H)
+        self.theta = sample_angles(self.p)
+        self._pattern = None  # JacobianPattern of the Newton Jacobian, built at its first evaluation
+
+    # ------------------------------------------------------------------ layout
+    def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """X -> (q coefficients (2H+1, n), lambda coefficients (2H+1, m)) real layout."""
+        nq = self.n * self.L
+        return X[:nq].reshape(self.n, self.L).T, X[nq:].reshape(self.m, self.L).T
+
+    def join(self, Aq: np.ndarray, Al: np.ndarray) -> np.ndarray:
+        return np.concatenate([Aq.T.ravel(), Al.T.ravel()])
+
+    def initial(self, q0: np.ndarray | None = None, omega: float = 1.0, params=None) -> np.ndarray:
+        """Constant guess q = q0 (default ``system.q0``) and the static multipliers
+        ``Phi_q^T lambda = mean_t f(q0, 0, t)`` (least squares), so that gravity
+        stiffness ``lambda Phi_qq`` is present from the first Newton step."""
+        s = self.system
+        P = s.parameters if params is None else params
+        q = np.array(s.q0 if q0 is None else q0, float)
+        Aq = np.zeros((self.L, self.n))
+        Aq[0] = q
+        Al = np.zeros((self.L, self.m))
+        if self.m:
+            t = self.theta / omega
+            Q = np.broadcast_to(q, (self.p, self.n))
+            fbar = s.force(Q, np.zeros_like(Q), t, omega, P).mean(axis=0)
+            Pq = s.constraint_jacobian(Q[:1], t[:1], omega, P)[0]
+            Al[0] = np.linalg.lstsq(Pq.T, fbar, rcond=None)[0]
+        return self.join(Aq, Al)
+
+    def from_solution(self, sol: PeriodicSolution) -> np.ndarray:
+        """Unknowns from a PeriodicSolution (re-truncated or zero-padded to H, same nu)."""
+        if sol.subharmonic != self.nu:
+            raise InputError(f"solution has subharmonic {sol.subharmonic}, problem {self.nu}")
+        Hs = (sol.harmonics.shape[0] - 1) // 2
+        pad = max(0, self.H - Hs)
+        cq = np.pad(sol.harmonics, ((pad, pad), (0, 0)))
+        lam = sol.lambda_harmonics if sol.lambda_harmonics is not None else np.zeros((2 * Hs + 1, self.m))
+        cl = np.pad(lam, ((pad, pad), (0, 0)))
+        return self.join(complex_to_real(cq, self.H), complex_to_real(cl, self.H))
+
+    # ------------------------------------------------------------------ AFT
+    def time_samples(self, X: np.ndarray, omega: float):
+        """Samples over one orbit: t (p,), q, q', q'' (p, n), lambda (p, m)."""
+        Om = omega / self.nu
+        Aq, Al = self.split(X)
+        q = real_samples(Aq, self.p)
+        qd = Om * real_samples(self.D @ Aq, self.p)
+        qdd = Om ** 2 * real_samples(self.D @ (self.D @ Aq), self.p)
+        lam = real_samples(Al, self.p) if self.m else np.zeros((self.p, 0))
+        return self.theta / Om, q, qd, qdd, lam
+
+    def residual(self, X: np.ndarray, omega: float, params=None) -> np.ndarray:
+        """R(X), shape (size,)."""
+        return self._evaluate(X, omega, params, jacobian=False)[0]
+
+    def residual_jacobian(self, X: np.ndarray, omega: float, params=None):
+        """(R (size,), J sparse csc (size, size))."""
+        return self._evaluate(X, omega, params, jacobian=True)
+
+    def sampled_residual(self, X: np.ndarray, omega: float, params=None):
+        """The DAE residual at the p sample times, before projection: (t (p,), r1 =
+        M q'' + Phi_q^T lambda - f (p, n) in N or N m, r2 = Phi (p, m) in m or rad, f (p, n))."""
+        P = self.system.parameters if params is None else params
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        r1, r2, f = self._sampled(t, q, qd, qdd, lam, omega, P)[:3]
+        return t, r1, r2, f
+
+    def _sampled(self, t, q, qd, qdd, lam, omega, P):
+        """(r1, r2, f, M, Phi_q) at the samples (r2, Phi_q empty without constraints)."""
+        sysm = self.system
+        M = sysm.mass(q)
+        Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
+        f = sysm.force(q, qd, t, omega, P)
+        r1 = Ma - f
+        if not self.m:
+            return r1, np.zeros((len(t), 0)), f, M, None
+        Pq = sysm.constraint_jacobian(q, t, omega, P)
+        r1 += np.matmul(lam[:, None, :], Pq)[:, 0]
+        return r1, sysm.constraint(q, t, omega, P), f, M, Pq
+
+    def _evaluate(self, X, omega, params, jacobian):
+        sysm = self.system
+        P = sysm.parameters if params is None else params
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        r1, r2, _, M, Pq = self._sampled(t, q, qd, qdd, lam, omega, P)
+        R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H) if self.m else np.zeros((self.L, 0)))
+        if not jacobian:
+            return R, None
+        Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
+        if self.m:
+            Kt += sysm.constraint_hessian(q, lam, t, omega, P)
+        if sysm.mass_jacobian is not None:
+            Kt += sysm.mass_jacobian(q, qdd)
+        Ct = -Cf
+        return R, self._assemble(Kt, Ct, M, Pq, omega)
+
+    def _assemble(self, Kt, Ct, M, Pq, omega):
+        """Sparse Jacobian on the problem's fixed pattern (``periodyn.nonlinear.ihb_jacobian``), rebuilt
+        (larger) only when an evaluation needs a block or a harmonic band outside it."""
+        if Pq is None:
+            Pq = np.zeros((Kt.shape[0], 0, self.n))
+        need, varying, constants, spectra = block_needs(Kt, Ct, M, Pq, self.H)
+        pat = self._pattern
+        if pat is None or not pat.fits(need):
+            pat = self._pattern = (JacobianPattern(self.H, self.n, self.m, need) if pat is None else
+                                   JacobianPattern(self.H, self.n, self.m, pat.widened(need), pat.ordering.method))
+        return pat.assemble(omega / self.nu, varying, constants, spectra)
+
+    # ------------------------------------------------------------------ results
+    def linearization(self, X, omega, params=None):
+        """The orbit's perturbation equations (``periodyn.nonlinear.orbit_linearization.OrbitLinearization``)."""
+        t, q, qd, qdd, lam = self.time_samples(X, omega)
+        return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
+
+    def exponents(self, X, omega, params=None, method="magnus"):
+        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu)."""
+        exps = orbit_exponents(self.linearization(X, omega, params), method)
+        return replace(exps, omega=float(omega), subharmonic=self.nu)
+
+    def solution(self, X, omega, params, residual, iterations, stability=None) -> PeriodicSolution:
+        """The PeriodicSolution of unknowns X (the real layout ends here: two-sided harmonics)."""
+        Aq, Al = self.split(X)
+        s = self.system
+        return PeriodicSolution(float(omega), real_to_complex(Aq), None, s.coordinate_names, s.coordinate_names,
+                                float(residual), iterations=int(iterations), method="ihb", subharmonic=self.nu,
+                                lambda_harmonics=real_to_complex(Al), constraint_names=s.constraint_names,
+                                stability=stability, parameters=dict(s.parameters if params is None else params))
+
+    def newton(self, X, omega, params=None, tol=1e-8, max_iter=30):
+        """Newton with backtracking on the residual max-norm; returns a NewtonResult or raises
+        ConvergenceError."""
+        return newton(lambda Y: self.residual_jacobian(Y, omega, params), X, tol=tol, max_iter=max_iter,
+                      residual=lambda Y: self.residual(Y, omega, params), backtrack=6,
+                      label=f"IHB Newton at omega={omega:.6g} rad/s",
+                      hint="give a better initial guess (continuation) or more harmonics")
+
+
+def ihb(system, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
+        subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "magnus",
+        params=None) -> PeriodicSolution:
+    """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
+    its non-linear equations ``element_dae``) driven at ``omega`` (rad/s) by EGA-IHB.
+
+    harmonics: H; samples: p (default see module docstring); initial: a
+    PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
+    (``system.q0``); subharmonic: nu (orbit period nu 2 pi / omega); tol: residual
+    max-norm (N, N m, m, rad); stability: a method of
+    ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
+    "sparse") or None. Raises ConvergenceError when Newton fails.
+    """
+    system = as_dae(system, "ihb")
+    if not np.isfinite(omega) or omega <= 0:
+        raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
+    prob = IHBProblem(system, harmonics, samples, subharmonic)
+    if initial is None:
+        X0 = prob.initial(omega=float(omega), params=params)
+        try:
+            res = prob.newton(X0, float(omega), params, tol, max_iter)
+        except ConvergenceError as exc:
+            res = _stepped_start(prob, float(omega), params, tol, max_iter, exc)
+        exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
+        return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+    if isinstance(initial, PeriodicSolution):
+        X0 = prob.from_solution(initial)
+    else:
+        a = np.asarray(initial, float)
+        X0 = prob.initial(a, float(omega), params) if a.shape == (system.n,) else a
+        if X0.shape != (prob.size,):
+            raise InputError(f"initial must be a PeriodicSolution, an (n,)={system.n} configuration or a vector of "
+                             f"{prob.size} unknowns, got shape {a.shape}")
+    res = prob.newton(X0, float(omega), params, tol, max_iter)
+    exps = None if stability is None else prob.exponents(res.x, float(omega), params, stability)
+    return prob.solution(res.x, omega, params, res.residual, res.iterations, exps)
+
+
+_EASY_HALVINGS = 6  # start speeds tried: omega / 2, omega / 4, ... omega / 64
+_FIRST_RATIO, _MAX_RATIO, _MIN_RATIO = 1.25, 2.0, 1.0 + 1e-4  # speed ratios of the stepping
+
+
+def _stepped_start(prob: IHBProblem, omega: float, params, tol: float, max_iter: int, first: ConvergenceError):
+    """Default start when Newton from the static configuration fails at ``omega``: the same
+    start at a lower speed (omega/2, omega/4, ...: slower driving is closer to static), then
+    steps up in speed to ``omega``, each Newton from the secant prediction of the last two
+    orbits, the speed ratio growing after easy steps and halving (in log omega) after a
+    failure. Raises ConvergenceError saying what was tried and what to change."""
+    tried = [f"Newton from the static configuration at {omega:.6g} rad/s (residual {first.residual:.3g} after "
+             f"{first.iterations} iterations)"]
+    w, X = omega, None
+    for _ in range(_EASY_HALVINGS):
+        w *= 0.5
+        try:
+            X = prob.newton(prob.initial(omega=w, params=params), w, params, tol, max_iter).x
+            break
+        except ConvergenceError:
+            continue
+    if X is None:
+        tried.append(f"the same start at {omega / 2:.6g} .. {w:.6g} rad/s (halving the speed)")
+        raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                               ". Pass initial= a solution at a nearby speed (periodyn.continuation from a speed "
+                               "where the orbit is known), or a configuration close to the orbit's mean",
+                               first.residual, first.iterations)
+    tried.append(f"a converged start at {w:.6g} rad/s")
+    path = [(np.log(w), X)]
+    ratio = _FIRST_RATIO
+    while w < omega:
+        w_new = min(w * ratio, omega)
+        if len(path) > 1:  # secant in log omega
+            (l0, X0), (l1, X1) = path[-2], path[-1]
+            guess = X1 + (X1 - X0) * (np.log(w_new) - l1) / (l1 - l0)
+        else:
+            guess = X
+        try:
+            res = prob.newton(guess, w_new, params, tol, max_iter)
+        except ConvergenceError as exc:
+            ratio = np.sqrt(ratio)
+            if ratio < _MIN_RATIO:
+                tried.append(f"stepping up in speed from there, stopped at {w:.6g} rad/s (no step above a ratio "
+                             f"{_MIN_RATIO:g} converged: residual {exc.residual:.3g}; a fold or a bifurcation of "
+                             f"the orbit family may lie between {w:.6g} and {omega:.6g} rad/s)")
+                raise ConvergenceError(f"IHB start failed at omega={omega:.6g} rad/s; tried: " + "; ".join(tried) +
+                                       ". Follow the branch with periodyn.continuation(system, "
+                                       f"({w:.6g}, {omega:.6g}), ...) (it passes folds) and start from its solution",
+                                       exc.residual, exc.iterations) from None
+            continue
+        w, X = w_new, res.x
+        path.append((np.log(w), X))
+        ratio = min(ratio ** (1.5 if res.iterations <= 4 else 1.0), _MAX_RATIO)
+    return res
