@@ -13,7 +13,7 @@ from typing import Callable, TextIO
 __all__ = ["kernels_cached", "warm_up", "STEPS", "COMPILE_NOTE"]
 
 #: kernel modules the speed solver calls at every sweep point
-_SOLVER_KERNELS = ("banded", "floquet", "magnus_ladder", "outputs")
+_SOLVER_KERNELS = ("solvers/banded", "solvers/floquet", "solvers/magnus_ladder", "mechanism/outputs")  # kernels/...
 COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 20-200 s; "
                 "`periodyn warmup` does it ahead)")
 
@@ -23,8 +23,8 @@ def kernels_cached() -> bool:
     when a NUMBA_CACHE_DIR elsewhere makes that unknowable)."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         return True
-    cache = Path(__file__).resolve().parents[1] / "kernels" / "__pycache__"
-    return all(any(cache.glob(f"{name}.*.nbi")) for name in _SOLVER_KERNELS)
+    kernels = Path(__file__).resolve().parents[1] / "kernels"
+    return all(any((kernels / path).parent.glob(f"__pycache__/{Path(path).name}.*.nbi")) for path in _SOLVER_KERNELS)
 
 
 def _speed_solver() -> None:
