@@ -23,8 +23,8 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")  # "one core" for the sweep comp
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the project root: tests/planar_twins.py
-from tests.planar_twins import kernel_sample, motion_twin  # noqa: E402  (the NumPy twin; needs no pytest)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the project root: tests/twins/planar.py
+from tests.twins.planar import kernel_sample, motion_twin  # noqa: E402  (the NumPy twin; needs no pytest)
 
 import periodyn  # noqa: E402
 from periodyn.speeds import SpeedSolver  # noqa: E402

@@ -1,5 +1,5 @@
 """Plain-NumPy twins of the planar multibody kernels, written independently of them
-(closed-form chord derivatives, einsum assembly). Used by tests/unit/test_planar_kernels.py
+(closed-form chord derivatives, einsum assembly). Used by tests/unit/kernels/test_planar_kernels.py
 and by benchmarks/bench_linearize.py, so this module needs NumPy and periodyn only (no pytest).
 """
 

@@ -1,12 +1,12 @@
 """Spatial joint kernels (rotation helpers, Euler normalization, spatial truss, spatial
 hinge, rigid link, rigid-body inertia) against the plain-NumPy twins of
-tests/spatial_joint_twins.py (~1e-13) and finite differences of every derivative order."""
+tests/twins/spatial_joints.py (~1e-13) and finite differences of every derivative order."""
 
 import numpy as np
 
 from periodyn.kernels.elements import rigid_body, rotation, spatial_joints, spatial_truss
-from tests.spatial_joint_twins import (complex_step, conj_twin, g_twin, hinge_modes_twin, link_modes_twin,
-                                       quat_twin, rigid_body_twin, rotation_twin, truss_twin)
+from tests.twins.spatial_joints import (complex_step, conj_twin, g_twin, hinge_modes_twin, link_modes_twin,
+                                        quat_twin, rigid_body_twin, rotation_twin, truss_twin)
 
 RNG = np.random.default_rng(11)
 

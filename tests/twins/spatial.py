@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tests.planar_twins import chord_twin
+from tests.twins.planar import chord_twin
 
 N = 14
 EPS = np.zeros((3, 3, 3))

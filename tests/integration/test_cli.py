@@ -192,7 +192,7 @@ def test_warmup_reports_each_step(capsys):
 
 
 def test_bench_linearize_runs_without_the_test_extras(tmp_path):
-    """benchmarks/bench_linearize.py imports its NumPy twin from tests/planar_twins.py,
+    """benchmarks/bench_linearize.py imports its NumPy twin from tests/twins/planar.py,
     which needs neither pytest nor hypothesis (both made unimportable here)."""
     root = Path(__file__).resolve().parents[2]
     blocker = tmp_path / "sitecustomize.py"

@@ -110,7 +110,7 @@ def test_body_component_output_matches_twin_and_co_rotates():
     the output's gradient equals the complex-step gradient of a NumPy twin."""
     from periodyn.kernels.mechanism.outputs import body_component
     from periodyn.model.kinematics import nominal_configurations
-    from tests.spatial_joint_twins import complex_step, rotation_twin
+    from tests.twins.spatial_joints import complex_step, rotation_twin
 
     m = _spatial()
     m.add_hinge("h", ("ground", "shaft"), axis=(1, 0, 0))

@@ -9,7 +9,7 @@ from scipy.spatial.transform import Rotation
 from periodyn.errors import InputError
 from periodyn.kernels.elements import planar_beam, spatial_beam
 from periodyn.model.spatial_beam import BeamSection, SpatialBeam, beam_parameters, section_second_moments
-from tests.spatial_twins import SLOPES, _gauss, HERMITE, beam_deformation_twin, beam_inertia_twin
+from tests.twins.spatial import SLOPES, _gauss, HERMITE, beam_deformation_twin, beam_inertia_twin
 
 RNG = np.random.default_rng(5)
 N = spatial_beam.NDOF

@@ -1,6 +1,6 @@
 """Planar multibody kernels against plain-NumPy twins (~1e-13) and finite differences.
 
-The twins live in tests/planar_twins.py (also used by benchmarks/bench_linearize.py).
+The twins live in tests/twins/planar.py (also used by benchmarks/bench_linearize.py).
 """
 
 import numpy as np
@@ -11,7 +11,7 @@ from periodyn.kernels.elements import elastic, planar_beam, planar_hinge, planar
 from periodyn.kernels.mechanism import outputs
 from periodyn.model.kinematics import nominal_configurations
 from periodyn.model import PlanarBeam
-from tests.planar_twins import (beam_deformation_twin, beam_inertia_twin, elastic_twin, kernel_sample,
+from tests.twins.planar import (beam_deformation_twin, beam_inertia_twin, elastic_twin, kernel_sample,
                                  midpoint_twin, motion_twin, truss_deformation_twin)
 
 RNG = np.random.default_rng(7)
