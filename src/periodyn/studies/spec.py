@@ -50,7 +50,7 @@ from .transient import TransientSpec, parse_transient, run_transient
 from ..errors import InputError
 
 __all__ = ["SweepSpec", "StudySpec", "TransientSpec", "CampbellSpec", "SweepPlan", "load_sweep_file", "parse_sweep",
-           "project_root", "known_examples", "element_model", "run", "ensure", "load_result", "FIXED_UNITS",
+           "project_root", "known_examples", "element_model", "run", "ensure", "ensure_result", "FIXED_UNITS",
            "MAX_HARMONICS", "KINDS"]
 
 #: The study kinds: table name -> (parser of the table, runner).
@@ -173,15 +173,6 @@ def run(spec, out, **options):
     return KINDS[spec.kind][1](spec, Path(out), **options)
 
 
-def load_result(spec, out):
-    """The result of ``spec`` written at ``out``: a Dataset, or {name: Branch} for a
-    continuation study."""
-    from ..results import load
-    from .continuation import load_study
-
-    return load_study(out) if spec.kind == "continuation" else load(out)
-
-
 def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: int | str = "auto"):
     """The result of the study file ``sweeps/<name>.toml`` from ``<results_dir>/<name>.nc``
     when that file is current (:mod:`periodyn.studies.cache`), else computed and written
@@ -196,7 +187,12 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
 
     root = project_root()
     spec = load_sweep_file(root / sweeps_dir / f"{name}.toml")
-    out = root / results_dir / f"{name}.nc"
-    cache.discard_stale(out, spec)
     progress = sys.stderr if spec.kind == "continuation" else None
-    return run(spec, out, resume=True, workers=workers, progress=progress)
+    return ensure_result(spec, root / results_dir / f"{name}.nc", workers=workers, progress=progress)
+
+
+def ensure_result(spec, out, **options):
+    """The result of the parsed study ``spec`` from ``out`` when current, else computed
+    there (a file made otherwise is replaced); options as for :func:`run`."""
+    cache.discard_stale(out, spec, options.get("omega"))
+    return run(spec, out, resume=True, **options)
