@@ -4,8 +4,6 @@ and a result is current iff its fingerprint equals the request's."""
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 import pytest
 
@@ -32,23 +30,37 @@ def test_every_shipped_file_parses_with_the_one_entry_and_every_kind_ships():
     assert kinds["rotor_campbell"] == "campbell" and load_sweep_file(project_root() / "sweeps" / "pendulum.toml").boundaries
 
 
-@pytest.mark.parametrize("name", ["rotor_campbell", "rotor_table1", "pendulum", "slider_crank_transient"])
+@pytest.mark.parametrize("name", ["rotor_campbell", "rotor_table1", "pendulum"])
 def test_cheap_shipped_files_run_at_a_reduced_range(name, tmp_path, capsys):
+    """The cheap shipped files (the slider-crank transients and the continuation studies
+    run in tests/unit/test_study_files.py)."""
     path = project_root() / "sweeps" / f"{name}.toml"
     spec = load_sweep_file(path)
     out = tmp_path / f"{name}.nc"
-    if spec.kind == "transient":
-        path = tmp_path / path.name
-        path.write_text(re.sub(r"(?m)^points = \d+", "points = 11", (project_root() / "sweeps" / f"{name}.toml")
-                               .read_text()))
-        args = []
-    elif spec.kind == "sweep":
+    if spec.kind == "sweep":
         args = ["--omega", "0.85:1.1:6", "--workers", "1"]
     else:
         args = [] if "values" in spec.speeds else ["--omega", "1000:4000:3"]
     assert main(["sweep", str(path), "--out", str(out), "-q", *args]) == 0, capsys.readouterr().err
     ds = load(out)
     assert ds.attrs[cache.KIND] == spec.kind and cache.is_current(out, load_sweep_file(path), _range(args))
+
+
+def test_a_transient_study_runs_and_resumes_by_the_same_rule(tmp_path, capsys):
+    study = tmp_path / "t.toml"
+    study.write_text('[model]\nexample = "pendulum"\n[transient]\nomega = { value = 2.0, unit = "rad/s" }\n'
+                     'harmonics = 4\npoints = 11\nsamples = 16\n')
+    out = tmp_path / "t.nc"
+    assert main(["sweep", str(study), "--out", str(out), "-q", "--plot", str(tmp_path / "t.png")]) == 0
+    ds = load(out)
+    assert list(ds["method"].values) == ["averaging", "integrate"] and ds.sizes["time"] == 11
+    assert ds.attrs[cache.KIND] == "transient" and cache.is_current(out, load_sweep_file(study))
+    stamp = out.stat().st_mtime_ns
+    assert main(["sweep", str(study), "--out", str(out), "-q", "--resume"]) == 0 and out.stat().st_mtime_ns == stamp
+    study.write_text(study.read_text().replace("points = 11", "points = 12"))
+    capsys.readouterr()
+    assert main(["sweep", str(study), "--out", str(out), "-q", "--resume"]) == 2
+    assert "finished study made with other settings" in capsys.readouterr().err
 
 
 def _range(args):
