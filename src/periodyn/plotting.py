@@ -207,7 +207,7 @@ def plot_transient(ds: xr.Dataset, title: str = ""):
     periodic part (dotted) when the study has one."""
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for method in ds["method"].values:
-        ax.plot(ds["time"], ds["outputs"].sel(method=method).values[:, 0], label=str(method))
+        ax.plot(ds["time"], ds["outputs"].sel({"method": method}).values[:, 0], label=str(method))
     if "periodic" in ds:
         ax.plot(ds["time"], ds["periodic"].values[:, 0], "k:", label="periodic")
     ax.set_xlabel("time (s)")
