@@ -209,7 +209,8 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
 
     omega: (start, stop[, num]) in the file's unit replacing the file's range (num is
     ignored: the arc-length steps choose the points). resume: a current ``out`` is read
-    instead; one made otherwise is refused (InputError, :mod:`periodyn.studies.cache`). progress: None (quiet) or a text stream for one progress line per branch.
+    instead; one made otherwise is refused (InputError, :mod:`periodyn.studies.cache`).
+    progress: None (quiet) or a text stream for one progress line per branch.
     """
     from ..arclength import continuation, switch_period_doubling
     from .points import solve_at_speeds
