@@ -22,10 +22,9 @@ import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from periodyn.studies.spec import load_sweep_file  # noqa: E402
+from periodyn.studies.spec import ensure_result, load_sweep_file  # noqa: E402
 from periodyn.arclength import confirm_special_points  # noqa: E402
 from periodyn.arclength.truncation import check_truncation  # noqa: E402
-from periodyn.studies.continuation import ensure_study  # noqa: E402
 
 STUDY = os.path.join(os.path.dirname(__file__), "..", "sweeps", "dae_slider_chain_pendulum.toml")
 
@@ -49,7 +48,7 @@ def main(argv=None) -> None:
     ap.add_argument("--rtol", type=float, default=1e-8)
     args = ap.parse_args(argv)
     spec = load_sweep_file(STUDY)
-    branch = ensure_study(spec, args.result)["frequency"]
+    branch = ensure_result(spec, args.result, progress=sys.stderr)["frequency"]
     system, types = spec.build(), tuple(args.types)
     report = lambda k, n: print(f"checked {k}/{n}", file=sys.stderr, flush=True)  # noqa: E731
     start = time.perf_counter()

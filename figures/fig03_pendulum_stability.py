@@ -1,6 +1,7 @@
 """Schwab & Meijaard (2001) Fig. 3: log amplitude of the periodic solution of the
 elliptic pendulum and the largest real part of the characteristic exponents (lambda/omega0),
-zeta = 0.01, 0 < omega/omega0 < 1.4, with the stability boundaries refined by bisection."""
+zeta = 0.01, 0 < omega/omega0 < 1.4, with the stability boundaries the sweep refined
+(``boundaries = true`` in sweeps/pendulum.toml)."""
 
 from __future__ import annotations
 
@@ -12,10 +13,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn  # noqa: E402
 import periodyn.studies.spec  # noqa: E402
 from periodyn.plotting import save_figure  # noqa: E402
-from periodyn.stability.boundaries import stability_boundaries  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
@@ -25,8 +24,6 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     amp = ds["amplitude"].sel(output="phi").values
     max_real = ds["max_real_exponent"].values / w0
     stable = ds["stable"].values.astype(bool)
-    model = periodyn.examples.pendulum(samples=int(ds.attrs.get("samples", 64)))
-    edges = stability_boundaries(model.at, np.linspace(0.5, 1.4, 19) * w0, int(ds.attrs.get("harmonics", 12)))
 
     fig, ax = plt.subplots(figsize=(6.5, 4.6), layout="constrained")
     ax.semilogy(r, np.where(stable, amp, np.nan), "k-", lw=1.2, label=r"$\Delta\hat\varphi$ (stable)")
@@ -38,10 +35,9 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     ax2.plot(r, max_real, "b--", lw=1.0, label=r"max Re $\lambda/\omega_0$")
     ax2.axhline(0.0, color="b", lw=0.4)
     ax2.set_ylabel(r"max Re $\lambda/\omega_0$", color="b")
-    for b in edges:
-        ax.axvline(b.omega / w0, color="r", lw=0.5, ls=":")
-        ax.text(b.omega / w0, ax.get_ylim()[1], f"{b.omega / w0:.4f}\n{b.kind}", fontsize=6, ha="center",
-                va="bottom", color="r")
+    for omega, kind in zip(ds["boundary_omega"].values / w0, ds["boundary_kind"].values):
+        ax.axvline(omega, color="r", lw=0.5, ls=":")
+        ax.text(omega, ax.get_ylim()[1], f"{omega:.4f}\n{kind}", fontsize=6, ha="center", va="bottom", color="r")
     lines = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
     fig.legend(lines, [ln.get_label() for ln in lines], loc="outside lower center", ncols=3, fontsize=8)
     return [save_figure(fig, out_dir / "fig03_pendulum_stability.png")]

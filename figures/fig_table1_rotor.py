@@ -3,9 +3,9 @@ section 4.3 at 4000 rpm, periodyn (5 rotor elements as the paper, and refined me
 5 spatial beams spinning at the prescribed speed, as SPACAR) next to the paper's
 "present" column and Sundararajan & Noah's, with relative differences.
 
-Reads (or computes once and stores) results/table1_rotor_<n>el.nc and
-results/table1_rotor_spatial_5el.nc made by periodyn.rotor.diagram; writes the table as
-text beside the figures."""
+Reads the results of sweeps/rotor_table1.toml (a grid over the mesh) and
+sweeps/rotor_table1_spatial.toml through ``ensure``; writes the table as text beside the
+figures."""
 
 from __future__ import annotations
 
@@ -14,26 +14,24 @@ import sys
 
 import numpy as np
 
-from periodyn.studies.spec import project_root
-from periodyn.examples import rotor
 from periodyn.examples.rotor_table1 import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
-from periodyn.rotor import stored_campbell
+from periodyn.studies.spec import ensure
 
-MESHES = (5, 20, 80)
 
 
 def table() -> str:
-    speed = TABLE_I_SPEED_RPM * np.pi / 30.0
-    results = project_root() / "results"
-    runs = {n: stored_campbell(results / f"table1_rotor_{n}el.nc", rotor(n), [speed], modes=8) for n in MESHES}
-    spatial = stored_campbell(results / "table1_rotor_spatial_5el.nc", rotor(5, shaft="spatial"), [speed], modes=8)
+    meshes = ensure("rotor_table1")
+    spatial = ensure("rotor_table1_spatial")
+    if not np.allclose([*meshes["speed_rpm"].values, *spatial["speed_rpm"].values], TABLE_I_SPEED_RPM):
+        raise ValueError(f"sweeps/rotor_table1*.toml must give the speed of Table I, {TABLE_I_SPEED_RPM} rpm")
+    runs = {int(n): meshes.sel(elements=n) for n in meshes["elements"].values}
     fmt = lambda z: f"{z.real:8.2f} {z.imag:+9.2f}i"  # noqa: E731
     head = (f"{'whirl':9s} {'paper present':>19s} {'Sundararajan&Noah':>19s} "
-            + " ".join(f"{f'periodyn {n} el':>19s}" for n in MESHES) + f" {'spatial beams 5 el':>19s}"
+            + " ".join(f"{f'periodyn {n} el':>19s}" for n in runs) + f" {'spatial beams 5 el':>19s}"
             + f" {'vs present':>10s} {'vs S&N':>8s} {'spatial vs present':>18s}")
     lines = [f"Rotor of section 4.3 at {TABLE_I_SPEED_RPM:.0f} rpm; eigenvalues in rad/s (stationary frame)", head]
     for k, ((whirl, present), ref) in enumerate(zip(TABLE_I_PRESENT, TABLE_I_REFERENCE)):
-        ours = [complex(runs[n].eigenvalue.values[0, k]) for n in MESHES]
+        ours = [complex(runs[n].eigenvalue.values[0, k]) for n in runs]
         beams = complex(spatial.eigenvalue.values[0, k])
         ok = "" if runs[5].whirl.values[0, k] == spatial.whirl.values[0, k] == whirl else " (whirl differs)"
         lines.append(f"{whirl:9s} {fmt(present)} {fmt(ref)} " + " ".join(fmt(z) for z in ours) + f" {fmt(beams)}"

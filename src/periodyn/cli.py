@@ -28,6 +28,7 @@ _EPILOG = """examples:
   periodyn sweep sweeps/pendulum.toml --resume          # continue an interrupted sweep
   periodyn sweep sweeps/dae_rod_pendulum.toml --plot results/rod.png   # a continuation study
   periodyn sweep sweeps/slider_crank_transient.toml     # a transient from rest at one speed
+  periodyn sweep sweeps/rotor_campbell.toml --plot results/campbell.png   # a rotor's Campbell diagram
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
   periodyn warmup                                       # compile the kernels once after install
@@ -70,18 +71,21 @@ def build_parser() -> argparse.ArgumentParser:
     sw = commands.add_parser("sweep", help="run a sweep file and write its results (and a figure)",
                              description="Run the sweep described by a TOML sweep file (see sweeps/*.toml and "
                                          "periodyn.studies.spec) and write one netCDF result file.")
-    sw.add_argument("file", type=Path, help="sweep file, e.g. sweeps/pendulum.toml, a continuation study "
-                                            "([continuation] table), e.g. sweeps/dae_rod_pendulum.toml, or a "
-                                            "transient study ([transient] table), e.g. "
-                                            "sweeps/slider_crank_transient.toml")
+    sw.add_argument("file", type=Path, help="study file: a speed sweep ([sweep] table), e.g. sweeps/pendulum.toml, "
+                                            "a continuation study ([continuation]), e.g. sweeps/dae_rod_pendulum.toml, "
+                                            "a transient ([transient]), e.g. sweeps/slider_crank_transient.toml, or "
+                                            "a Campbell diagram ([campbell]), e.g. sweeps/rotor_campbell.toml")
     sw.add_argument("--omega", type=_omega_range, metavar="START:STOP:NUM",
                     help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit "
-                         "(a continuation study takes START:STOP as its range and ignores NUM)")
+                         "(a continuation study takes START:STOP as its range and ignores NUM; a Campbell "
+                         "study's speeds)")
     sw.add_argument("--out", type=Path, metavar="FILE", help="result file (default results/<name>.nc)")
     sw.add_argument("--plot", type=Path, metavar="FILE",
-                    help="also draw amplitude per output (unstable points marked) and max Re exponent")
+                    help="also draw the result: amplitude per output (unstable points marked) and max Re "
+                         "exponent, branches, time history or Campbell diagram")
     sw.add_argument("--resume", action="store_true",
-                    help="continue an interrupted sweep of the same file and --out, computing only missing points")
+                    help="continue an interrupted sweep of the same file and --out, computing only missing points; "
+                         "a finished result of the same request is read, one made otherwise refused")
     sw.add_argument("--workers", type=_workers, default="auto", metavar="N",
                     help="worker processes; 0 = all cores; 'auto' (default): all cores for sweeps of "
                          f"{AUTO_PARALLEL_POINTS}+ points, else 1; with --scheduler local: Dask workers")
@@ -133,15 +137,42 @@ def _summary(ds, out: Path, elapsed: float) -> list[str]:
 
 def _cmd_sweep(args) -> int:
     from .studies.spec import load_sweep_file
-    from .plotting import plot_sweep, save_figure
-    from .engine.front import sweep_file
 
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
-    if spec.kind == "continuation":
-        return _cmd_study(args, spec, out)
-    if spec.kind == "transient":
-        return _cmd_transient(args, spec, out)
+    description = " ".join(spec.description.split())
+    title = f"{spec.name}: {description}" if description else spec.name
+    kind = {"sweep": _cmd_speed_sweep, "continuation": _cmd_study, "transient": _cmd_transient,
+            "campbell": _cmd_campbell}[spec.kind]
+    lines, figure = kind(args, spec, out, title)
+    if args.plot:
+        from .plotting import save_figure
+
+        save_figure(figure(), args.plot)
+    if not args.quiet:
+        print("\n".join(lines + ([f"figure: {args.plot}"] if args.plot else [])))
+    return 0
+
+
+def _run(spec, out: Path, **options):
+    """(result, seconds) of the study ``spec`` run into ``out``."""
+    from .studies.spec import run
+
+    start = time.perf_counter()
+    result = run(spec, out, **options)
+    return result, time.perf_counter() - start
+
+
+def _one_process(args, spec, what: str, omega: bool = True) -> None:
+    """Refuse the options of a sweep that a study run in one process does not take."""
+    if args.scheduler or args.chunk_size or (args.omega and not omega):
+        flags = ("" if omega else "--omega, ") + "--scheduler and --chunk-size"
+        raise InputError(f"{spec.source} is {what}, run in one process; drop {flags}")
+
+
+def _cmd_speed_sweep(args, spec, out: Path, title: str):
+    from .plotting import plot_sweep
+
     workers = args.workers
     if workers == "auto" and args.scheduler:
         workers = available_cores()
@@ -149,81 +180,64 @@ def _cmd_sweep(args) -> int:
     if len(speeds) > 1 and speeds[0] > speeds[-1] and not args.quiet:
         print(f"note: the speeds run down, from {speeds[0]:g} to {speeds[-1]:g} {spec.omega_unit}; the results "
               "keep that descending order", file=sys.stderr)
-    start = time.perf_counter()
-    ds = sweep_file(spec, omega=args.omega, out=out, workers=workers, scheduler=args.scheduler,
-                    resume=args.resume, progress=False if args.quiet else None, chunk_size=args.chunk_size)
-    elapsed = time.perf_counter() - start
-    if args.plot:
-        description = " ".join(spec.description.split())
-        save_figure(plot_sweep(ds, title=f"{spec.name}: {description}" if description else spec.name), args.plot)
-    if not args.quiet:
-        print("\n".join(_summary(ds, out, elapsed)))
-        if args.plot:
-            print(f"figure: {args.plot}")
-    return 0
+    ds, elapsed = _run(spec, out, omega=args.omega, workers=workers, scheduler=args.scheduler, resume=args.resume,
+                       progress=False if args.quiet else None, chunk_size=args.chunk_size)
+    lines = _summary(ds, out, elapsed)
+    if "boundary_omega" in ds:
+        found = zip(ds["boundary_omega"].values, ds["boundary_kind"].values, ds["boundary_becomes_stable"].values)
+        lines.append("stability boundaries (rad/s): " + (", ".join(
+            f"{w:.8g} {k} ({'stable' if up else 'unstable'} above)" for w, k, up in found) or "none"))
+    return lines, lambda: plot_sweep(ds, title=title)
 
 
-def _cmd_study(args, spec, out: Path) -> int:
-    from .plotting import save_figure
+def _cmd_study(args, spec, out: Path, title: str):
     from .plotting import plot_study
-    from .studies.continuation import run_study
 
-    if args.scheduler or args.chunk_size:
-        raise InputError(f"{spec.source} is a continuation study, which runs in one process; drop --scheduler "
-                         "and --chunk-size")
+    _one_process(args, spec, "a continuation study")
     if args.omega and not args.quiet and spec.speeds is not None:
         print(f"note: --omega replaces the study's given speeds by {args.omega[2]} speeds from {args.omega[0]:g} "
               f"to {args.omega[1]:g} {spec.omega_unit}", file=sys.stderr)
     elif args.omega and not args.quiet:
         print(f"note: a continuation study follows omega from {args.omega[0]:g} to {args.omega[1]:g} "
               f"{spec.omega_unit} with its own steps; NUM ({args.omega[2]}) is ignored", file=sys.stderr)
-    start = time.perf_counter()
-    branches = run_study(spec, out, omega=args.omega, resume=args.resume, progress=None if args.quiet else sys.stderr)
-    elapsed = time.perf_counter() - start
-    if args.plot:
-        description = " ".join(spec.description.split())
-        save_figure(plot_study(branches, f"{spec.name}: {description}" if description else spec.name), args.plot)
-    if not args.quiet:
-        for key, branch in branches.items():
-            kinds = [sp.type for sp in branch.special_points]
-            special = ", ".join(f"{kinds.count(k)} {k}" for k in dict.fromkeys(kinds)) or "no special points"
-            print(f"{spec.name} {key}: {len(branch)} points, {special}")
-        if spec.period_doubling is not None and "period_doubled" not in branches:
-            print("note: no period-doubling point on the frequency branch, so no period_doubled branch")
-        print(f"{spec.example}: {len(branches)} branches, {elapsed:.1f} s; wrote {out}")
-        if args.plot:
-            print(f"figure: {args.plot}")
-    return 0
+    branches, elapsed = _run(spec, out, omega=args.omega, resume=args.resume,
+                             progress=None if args.quiet else sys.stderr)
+    lines = []
+    for key, branch in branches.items():
+        kinds = [sp.type for sp in branch.special_points]
+        special = ", ".join(f"{kinds.count(k)} {k}" for k in dict.fromkeys(kinds)) or "no special points"
+        lines.append(f"{spec.name} {key}: {len(branch)} points, {special}")
+    if spec.period_doubling is not None and "period_doubled" not in branches:
+        lines.append("note: no period-doubling point on the frequency branch, so no period_doubled branch")
+    lines.append(f"{spec.example}: {len(branches)} branches, {elapsed:.1f} s; wrote {out}")
+    return lines, lambda: plot_study(branches, title)
 
 
-def _cmd_transient(args, spec, out: Path) -> int:
-    from .plotting import save_figure
-    from .studies.transient import ensure_transient, run_transient
+def _cmd_transient(args, spec, out: Path, title: str):
+    from .plotting import plot_transient
 
-    if args.omega or args.scheduler or args.chunk_size:
-        raise InputError(f"{spec.source} is a transient study at one speed, run in one process; drop --omega, "
-                         "--scheduler and --chunk-size")
-    start = time.perf_counter()
-    ds = ensure_transient(spec, out) if args.resume else run_transient(spec, out)
-    elapsed = time.perf_counter() - start
-    if args.plot:
-        import matplotlib.pyplot as plt
+    _one_process(args, spec, "a transient study at one speed", omega=False)
+    ds, elapsed = _run(spec, out, resume=args.resume)
+    return [f"{spec.example}: transient at omega = {spec.omega:g} rad/s, {ds.sizes['time']} times, methods "
+            f"{', '.join(map(str, ds['method'].values))}, {elapsed:.1f} s; wrote {out}"], \
+        lambda: plot_transient(ds, title)
 
-        fig, ax = plt.subplots(figsize=(6, 3.5))
-        for method in ds["method"].values:
-            ax.plot(ds["time"], ds["outputs"].sel(method=method).values[:, 0], label=str(method))
-        if "periodic" in ds:
-            ax.plot(ds["time"], ds["periodic"].values[:, 0], "k:", label="periodic")
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel(str(ds["output"].values[0]))
-        ax.legend(fontsize=8)
-        save_figure(fig, args.plot)
-    if not args.quiet:
-        print(f"{spec.example}: transient at omega = {spec.omega:g} rad/s, {ds.sizes['time']} times, methods "
-              f"{', '.join(map(str, ds['method'].values))}, {elapsed:.1f} s; wrote {out}")
-        if args.plot:
-            print(f"figure: {args.plot}")
-    return 0
+
+def _cmd_campbell(args, spec, out: Path, title: str):
+    import numpy as np
+
+    from .plotting import plot_campbell
+
+    _one_process(args, spec, "a Campbell study")
+    if args.plot and spec.grid:
+        raise InputError(f"{spec.source}: --plot draws one rotor, but this study has a [campbell.grid] "
+                         f"({', '.join(spec.grid)}); drop --plot and draw a grid point from the result file")
+    ds, elapsed = _run(spec, out, omega=args.omega, resume=args.resume)
+    thresholds = np.atleast_1d(ds["threshold_speed"].values).ravel() * 30.0 / np.pi
+    text = ", ".join(f"{t:.0f} rpm" if np.isfinite(t) else "none in range" for t in thresholds)
+    grid = "".join(f" x {len(v)} {k}" for k, v in spec.grid.items())
+    return [f"{spec.example}: Campbell diagram, {ds.sizes['speed']} speeds x {ds.sizes['mode']} modes{grid}, "
+            f"stability threshold {text}, {elapsed:.1f} s; wrote {out}"], lambda: plot_campbell(ds, title)
 
 
 # ----------------------------------------------------------------------------- scripts

@@ -16,7 +16,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 __all__ = ["speed_axis", "output_unit", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure",
-           "plot_branch", "time_history_figure", "plot_study"]
+           "plot_branch", "time_history_figure", "plot_study", "plot_transient", "plot_campbell"]
 
 _MAX_CURVES = 12
 
@@ -198,5 +198,55 @@ def plot_study(branches: dict, title: str = ""):
         a.grid(alpha=0.3)
     if title:
         fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_transient(ds: xr.Dataset, title: str = ""):
+    """The first output of a transient study's Dataset over time, per method, with its
+    periodic part (dotted) when the study has one."""
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    for method in ds["method"].values:
+        ax.plot(ds["time"], ds["outputs"].sel({"method": method}).values[:, 0], label=str(method))
+    if "periodic" in ds:
+        ax.plot(ds["time"], ds["periodic"].values[:, 0], "k:", label="periodic")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(str(ds["output"].values[0]))
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(textwrap.fill(title, 90), fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_campbell(ds: xr.Dataset, title: str = ""):
+    """Campbell diagram of one rotor (a Campbell Dataset without grid dimensions):
+    stationary-frame whirl frequencies (cycles/min) over spin speed (rpm), forward and
+    backward whirl in two colours, markers growing as the damping ratio falls, 1x and 2x
+    running-speed lines and the stability threshold in the title."""
+    rpm = ds["speed_rpm"].values
+    freq = ds["frequency"].values * 30.0 / np.pi           # rad/s -> cycles per minute
+    zeta = np.nan_to_num(ds["damping_ratio"].values)
+    forward = ds["whirl"].values == "forward"
+    size = 4.0 + 30.0 * (1.0 - np.clip(zeta / max(zeta.max(), 1e-12), 0.0, 1.0))
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    every = slice(None, None, max(1, len(rpm) // 100))
+    r = np.broadcast_to(rpm[:, None], freq.shape)
+    for mask, colour, label in ((forward, "C3", "forward whirl"), (~forward, "C0", "backward whirl")):
+        ax.scatter(r[every][mask[every]], freq[every][mask[every]], s=size[every][mask[every]], c=colour, lw=0,
+                   label=label)
+    for k in (1, 2):
+        ax.plot(rpm, k * rpm, "k--" if k == 1 else "k:", lw=0.8, label=f"{k}x running speed")
+    threshold = float(ds["threshold_speed"])
+    note = (f"stability threshold {threshold * 30 / np.pi:.0f} rpm" if np.isfinite(threshold)
+            else "stable over the whole speed range")
+    ax.set_title(textwrap.fill(f"{title + ': ' if title else ''}{note}; larger markers = less damped", 90),
+                 fontsize=9)
+    ax.set_xlabel("spin speed [rpm]")
+    ax.set_ylabel("whirl frequency [cycles/min]")
+    if rpm[-1] > rpm[0]:
+        ax.set_xlim(rpm[0], rpm[-1])
+    ax.set_ylim(0.0, 1.05 * max(freq.max(), 1.0))
+    ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
     return fig

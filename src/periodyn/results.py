@@ -125,23 +125,6 @@ def load(path) -> xr.Dataset:
     return _join_complex(ds)
 
 
-def load_if_made_from(path, attribute: str, text: str) -> xr.Dataset | None:
-    """The result file at ``path`` when its attribute ``attribute`` equals ``text`` (the
-    sweep or study file it was made from), else None; a file made from other text, or an
-    unreadable one, is removed so that it is computed again."""
-    path = Path(path)
-    if not path.is_file():
-        return None
-    try:
-        ds = load(path)
-    except InputError:
-        ds = None
-    if ds is not None and ds.attrs.get(attribute) == text:
-        return ds
-    path.unlink()
-    return None
-
-
 def options_attrs(options: dict) -> dict:
     """Dataset attributes for sweep options: JSON in ``sweep_options`` plus flat scalars."""
     attrs = {"sweep_options": json.dumps(options, sort_keys=True)}

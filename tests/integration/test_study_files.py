@@ -1,6 +1,7 @@
-"""Every shipped sweep file runs through ``periodyn sweep`` at reduced size and writes a
+"""Every shipped study file runs through ``periodyn sweep`` at reduced size and writes a
 results file that loads: speed sweeps with a few speeds, continuation studies from small
-copies (fewer harmonics, rods and points)."""
+copies (fewer harmonics, rods and points), transients with fewer times, Campbell studies
+at their own speeds or a few."""
 
 from __future__ import annotations
 
@@ -31,7 +32,7 @@ def small_study(path: Path, folder: Path, harmonics: int = 3, max_points: int = 
 
 def test_every_shipped_file_is_covered():
     kinds = {load_sweep_file(p).kind for p in FILES}
-    assert kinds == {"sweep", "continuation", "transient"}
+    assert kinds == {"sweep", "continuation", "transient", "campbell"}
 
 
 @pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
@@ -46,6 +47,14 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
         ds = load(out)
         assert ds.sizes["omega"] == 3
         assert np.isfinite(ds["omega"].values).all()
+        return
+    if spec.kind == "campbell":  # given speeds as they are, a range by 3 speeds
+        reduced = [] if "values" in spec.speeds else ["--omega", f"{spec.speeds['stop'] / 2}:{spec.speeds['stop']}:3"]
+        code = main(["sweep", str(path), "--out", str(out), "-q", *reduced])
+        assert code == 0, capsys.readouterr().err
+        ds = load(out)
+        assert ds.sizes["speed"] == (len(spec.speeds["values"]) if not reduced else 3)
+        assert np.isfinite(ds["frequency"].values).all() and set(np.unique(ds["whirl"].values)) <= {"forward", "backward"}
         return
     if spec.kind == "transient":  # one speed: fewer times
         small = tmp_path / path.name

@@ -201,7 +201,7 @@ def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:
 
 def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=None, resume: bool = False,
                progress=None, chunk_size: int | None = None) -> xr.Dataset:
-    """Run a validated sweep file (:class:`periodyn.studies.spec.SweepSpec`); ``omega``
+    """Run a validated sweep file (:class:`periodyn.studies.sweep.SweepSpec`); ``omega``
     (start, stop, num) in the file's unit replaces its speeds; ``workers="auto"``:
     see :func:`auto_workers`."""
     if workers == "auto":

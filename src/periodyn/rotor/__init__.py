@@ -2,11 +2,11 @@
 linearized equations in the stationary and co-rotating frames, Campbell diagrams."""
 
 from .element_rotor import ElementRotor, spatial_rotor, spatial_rotor_model
-from .diagram import BACKWARD, FORWARD, campbell, stability_threshold, stored_campbell
+from .diagram import BACKWARD, FORWARD, campbell, stability_threshold
 from .files import load_rotor
 from .elements import Bearing, Disk, PointMass, Seal, ShaftSection, shaft_element
 from .model import Rotor, RotorEquations, RotorModel
 
 __all__ = ["Rotor", "RotorModel", "RotorEquations", "Bearing", "Seal", "Disk", "PointMass", "ShaftSection",
-           "shaft_element", "campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD", "load_rotor",
+           "shaft_element", "campbell", "stability_threshold", "FORWARD", "BACKWARD", "load_rotor",
            "ElementRotor", "spatial_rotor", "spatial_rotor_model"]

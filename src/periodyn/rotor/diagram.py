@@ -25,7 +25,7 @@ from ..stability.floquet import STABILITY_TOL
 from .element_rotor import ElementRotor
 from .model import RotorModel
 
-__all__ = ["campbell", "stability_threshold", "stored_campbell", "FORWARD", "BACKWARD"]
+__all__ = ["campbell", "stability_threshold", "FORWARD", "BACKWARD"]
 
 FORWARD, BACKWARD = "forward", "backward"
 _CHUNK_ENTRIES = 4_000_000      # complex entries of state matrices per eig batch
@@ -260,23 +260,3 @@ def stability_threshold(ds: xr.Dataset) -> float:
         return float(speed[0])
     g0, g1 = growth[j - 1], growth[j]
     return float(speed[j - 1] + (speed[j] - speed[j - 1]) * (-g0) / (g1 - g0))
-
-
-def stored_campbell(path, model: RotorModel, speeds, **options) -> xr.Dataset:
-    """The Campbell dataset in ``path`` when it was made for the same rotor, speeds and
-    options, else computed by :func:`campbell` and saved there (for figure scripts)."""
-    from pathlib import Path
-
-    from ..results import load, save
-
-    speeds = _speeds(speeds)
-    key = f"{model.name}|{model.n}|{np.round(speeds, 9).tolist()}|{sorted(options.items())}"
-    path = Path(path)
-    if path.is_file():
-        ds = load(path)
-        if ds.attrs.get("request") == key:
-            return ds
-    ds = campbell(model, speeds, **options)
-    ds.attrs["request"] = key
-    save(ds, path)
-    return ds

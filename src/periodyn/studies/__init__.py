@@ -1,4 +1,5 @@
-"""Study files (TOML): the checker every file kind shares (``checks``), the speed-sweep
-file and the dispatch on a file's kind (``spec``), element models written in a file
-(``elements``), continuation studies (``continuation``, with orbits at listed speeds in
-``points``) and transients (``transient``)."""
+"""Study files (TOML): ONE dialect, parsed by ``spec`` (the one entry, the dispatch on a
+file's kind, ``run`` and ``ensure``), with ONE "is this result current" rule (``cache``);
+the shared checker (``checks``), element models in a file (``elements``) and one module
+per kind: ``sweep``, ``continuation`` (orbits at given speeds in ``points``),
+``transient`` and ``campbell``."""

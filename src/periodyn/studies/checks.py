@@ -1,10 +1,11 @@
-"""Checks of sweep-file values: each failure is an InputError that starts with the file
-name and the table and says what to change (used by :mod:`periodyn.studies.spec` and
-:mod:`periodyn.studies.elements`)."""
+"""Checks of study-file values: each failure is an InputError that starts with the file
+name and the table and says what to change (used by every study kind); what every parsed
+study file has (:class:`FileSpec`); type checks of builder keywords."""
 
 from __future__ import annotations
 
 import difflib
+import inspect
 import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -13,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["Checker", "FileSpec", "kind", "MAX_POINTS", "FIXED_UNITS"]
+__all__ = ["Checker", "FileSpec", "kind", "MAX_POINTS", "FIXED_UNITS", "builder_parameters", "parameter_check"]
 
 MAX_POINTS = 10_000_000
 #: Speed units with a fixed factor to rad/s.
@@ -32,6 +33,16 @@ class FileSpec:
     example: str
     builder: Callable = field(repr=False)
     parameters: dict[str, Any]
+
+    @property
+    def inputs(self) -> dict:
+        """Files the study reads besides its own, parsed (part of its cache fingerprint)."""
+        return {}
+
+    def extent(self, omega=None) -> list | None:
+        """The range (start, stop, num) replacing the file's, as it changes the result
+        (part of the cache fingerprint); None keeps the file's."""
+        return None if omega is None else [float(v) for v in omega]
 
 
 class Checker:
@@ -99,6 +110,27 @@ class Checker:
         if not isinstance(value, list) or not value:
             self.fail(where, f"must be a non-empty list of values or a range {{start, stop, num}}, got {kind(value)}")
         return [check(v, f"{where}[{i}]") for i, v in enumerate(value)]
+
+
+def parameter_check(check: Checker, parameter: inspect.Parameter) -> Callable[[Any, str], Any]:
+    """Type check for one builder keyword from its default value (or annotation)."""
+    default = parameter.default
+    annotation = str(parameter.annotation)
+    if isinstance(default, bool) or annotation == "bool":
+        return check.boolean
+    if isinstance(default, int) or annotation == "int":
+        return check.integer
+    if isinstance(default, float) or annotation == "float":
+        return check.number
+    if isinstance(default, str) or annotation == "str":
+        return check.string
+    return lambda v, where: v
+
+
+def builder_parameters(builder: Callable) -> dict[str, inspect.Parameter]:
+    """The keyword parameters of a model builder by name."""
+    return {name: p for name, p in inspect.signature(builder).parameters.items()
+            if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)}
 
 
 def kind(value) -> str:

@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import json
 import os
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -50,10 +49,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from . import cache
 from .checks import FIXED_UNITS, Checker, FileSpec
 from ..errors import InputError
 
-__all__ = ["StudySpec", "parse_continuation", "run_study", "load_study", "ensure_study"]
+__all__ = ["StudySpec", "parse_continuation", "run_study", "load_study"]
 
 _KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "tol", "confirm",
          "parameter", "period_doubling", "time_history_omega")
@@ -109,11 +109,12 @@ class StudySpec(FileSpec):
         values = self.speeds if omega is None else np.linspace(*(float(v) for v in omega[:2]), int(omega[2]))
         return np.asarray(values, float) * FIXED_UNITS[self.omega_unit]
 
-    def settings(self, omega: tuple | None = None) -> str:
-        """What a results file must match to be reused: file text and the omega range."""
-        speeds = self.speed_values(omega)
-        return json.dumps({"text": self.text, "omega": list(self.omega_range(omega))}
-                          | ({} if speeds is None else {"speeds": speeds.tolist()}))
+    def extent(self, omega: tuple | None = None) -> list | None:
+        """The range replacing the file's as it changes the result: (start, stop) of a
+        continuation (its steps choose the points), (start, stop, num) of given speeds."""
+        if omega is None:
+            return None
+        return [float(v) for v in (omega if self.speeds is not None else omega[:2])]
 
 
 def parse_continuation(check: Checker, table, *, source, name, text, description, example, builder,
@@ -202,26 +203,21 @@ def _options(check: Checker, table: dict, where: str, strict: bool = False) -> d
 
 
 # ----------------------------------------------------------------------------- running
-def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool = False, progress=None) -> dict:
+def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool = False, progress=None,
+              **_unused) -> dict:
     """Compute the branches of ``spec`` and write them to ``out`` -> {name: Branch}.
 
     omega: (start, stop[, num]) in the file's unit replacing the file's range (num is
-    ignored: the arc-length steps choose the points). resume: a finished ``out`` made with
-    the same settings is read instead; one made with other settings is refused
-    (InputError). progress: None (quiet) or a text stream for one progress line per branch.
+    ignored: the arc-length steps choose the points). resume: a current ``out`` is read
+    instead; one made otherwise is refused (InputError, :mod:`periodyn.studies.cache`).
+    progress: None (quiet) or a text stream for one progress line per branch.
     """
     from ..arclength import continuation, switch_period_doubling
     from .points import solve_at_speeds
 
     out = Path(out)
-    settings = spec.settings(omega)
-    if resume and out.is_file():
-        attrs, branches = _read(out)
-        if attrs.get("study_settings") != settings:
-            raise InputError(f"{out} is a finished study made with other settings (study file or omega range), "
-                             "and resuming would overwrite it; rerun with the settings it was made with, give "
-                             "another --out file, or drop --resume to replace it")
-        return branches
+    if cache.finished(out, spec, omega, resume):
+        return load_study(out)
     system = spec.build()
     a, b = spec.omega_range(omega)
     H, notes = spec.harmonics, []
@@ -259,19 +255,19 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
                                              b, **kw)
         else:
             notes.append("no period-doubling point on the frequency branch: no period_doubled branch")
-    _write(out, spec, settings, branches, notes)
+    _write(out, spec, cache.stamp(spec, omega), branches, notes)
     return branches
 
 
-def _write(out: Path, spec: StudySpec, settings: str, branches: dict, notes: list[str]) -> None:
+def _write(out: Path, spec: StudySpec, stamp: dict, branches: dict, notes: list[str]) -> None:
     """One netCDF file: study attributes in the root group, one group per branch (atomic rename)."""
     from ..results import _ENGINE, _split_complex, package_versions
 
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_name(f"{out.name}.{os.getpid()}.partial")
     attrs = {"study": spec.name, "model": spec.example, "description": spec.description,
-             "study_file_text": spec.text, "study_settings": settings, "branches": ",".join(branches),
-             "notes": "; ".join(notes), "versions": json.dumps(package_versions())}
+             "study_file_text": spec.text, "branches": ",".join(branches),
+             "notes": "; ".join(notes), "versions": json.dumps(package_versions()), **stamp}
     try:
         xr.Dataset(attrs=attrs).to_netcdf(tmp, engine=_ENGINE, mode="w")
         for key, branch in branches.items():
@@ -282,7 +278,7 @@ def _write(out: Path, spec: StudySpec, settings: str, branches: dict, notes: lis
         raise
 
 
-def _read(path: Path) -> tuple[dict, dict]:
+def _read(path: Path) -> dict:
     from ..arclength import Branch
     from ..results import _ENGINE, _join_complex
 
@@ -298,7 +294,7 @@ def _read(path: Path) -> tuple[dict, dict]:
                 branches[key] = Branch.from_dataset(_join_complex(raw.load()))
     except (OSError, ValueError, KeyError) as exc:
         raise InputError(f"{path} is not a readable periodyn study file ({type(exc).__name__}: {exc})") from None
-    return attrs, branches
+    return branches
 
 
 def load_study(path) -> dict:
@@ -306,19 +302,4 @@ def load_study(path) -> dict:
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no study result at {path}; run the study first (periodyn sweep FILE --out {path})")
-    return _read(path)[1]
-
-
-def ensure_study(spec: StudySpec, out) -> dict:
-    """Branches of ``spec`` from ``out`` when made from the same study file text and range,
-    else computed and written (a file of another version is replaced)."""
-    out = Path(out)
-    if out.is_file():
-        try:
-            attrs, branches = _read(out)
-        except InputError:  # unreadable: computed again below
-            attrs, branches = {}, None
-        if attrs.get("study_settings") == spec.settings():
-            return branches
-        out.unlink()
-    return run_study(spec, out, progress=sys.stderr)
+    return _read(path)

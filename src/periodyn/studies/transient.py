@@ -22,8 +22,9 @@ motion by direct integration, as outputs of its element model when it has one
 
 Results: one netCDF file read by :func:`periodyn.studies.spec.ensure`, an xarray Dataset with
 coordinates ``time`` (s), ``method`` and ``output``; ``outputs`` (method, time, output) and,
-for a rheo-linear model, ``periodic`` (time, output); attrs ``omega`` (rad/s), ``model``
-and ``transient_file_text`` (the file it was made from).
+for a rheo-linear model, ``periodic`` (time, output); attrs ``omega`` (rad/s), ``model``,
+``transient_file_text`` (the file it was made from) and the cache fingerprint
+(:mod:`periodyn.studies.cache`).
 """
 
 from __future__ import annotations
@@ -34,10 +35,11 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from . import cache
 from .checks import FIXED_UNITS, Checker, FileSpec
 from ..errors import InputError
 
-__all__ = ["TransientSpec", "parse_transient", "run_transient", "ensure_transient"]
+__all__ = ["TransientSpec", "parse_transient", "run_transient"]
 
 _KEYS = ("omega", "harmonics", "periods", "points", "samples", "rtol", "atol")
 
@@ -101,11 +103,15 @@ def parse_transient(check: Checker, table, *, source, name, text, description, e
                          points, samples, tolerances)
 
 
-def run_transient(spec: TransientSpec, out) -> xr.Dataset:
-    """Compute the transient of ``spec`` and write it to ``out`` (atomically) -> Dataset."""
+def run_transient(spec: TransientSpec, out, *, resume: bool = False, **_unused) -> xr.Dataset:
+    """Compute the transient of ``spec`` and write it to ``out`` (atomically) -> Dataset;
+    with ``resume`` a current ``out`` is read and one made otherwise refused."""
     from ..dae import DAE
-    from ..results import package_versions, save
+    from ..results import load, package_versions, save
     from ..system import OmegaSplitModel
+
+    if cache.finished(out, spec, None, resume):
+        return load(out)
 
     model = spec.build()
     t = spec.times
@@ -144,15 +150,7 @@ def run_transient(spec: TransientSpec, out) -> xr.Dataset:
     variables["outputs"] = (("method", "time", "output"), outputs)
     ds = xr.Dataset(variables, coords={"time": t, "method": list(methods), "output": list(names)},
                     attrs={"model": spec.example, "omega": spec.omega, "description": spec.description,
-                           "transient_file_text": spec.text, "versions": json.dumps(package_versions())})
+                           "transient_file_text": spec.text, "versions": json.dumps(package_versions()),
+                           **cache.stamp(spec)})
     save(ds, out)
     return ds
-
-
-def ensure_transient(spec: TransientSpec, out) -> xr.Dataset:
-    """The transient of ``spec`` from ``out`` when made from the same file text, else
-    computed and written (a file of another version is replaced)."""
-    from ..results import load_if_made_from
-
-    ds = load_if_made_from(out, "transient_file_text", spec.text)
-    return ds if ds is not None else run_transient(spec, out)

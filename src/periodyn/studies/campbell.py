@@ -1,0 +1,149 @@
+"""Campbell studies: study files with a ``[campbell]`` table, the eigenvalues of a rotor
+over spin speeds in the stationary frame (:func:`periodyn.rotor.campbell`).
+
+Format (``description`` as in :mod:`periodyn.studies.spec`; the model is a rotor example,
+``[model] example = "rotor"``, or a rotor file, ``[model] rotor = "rotors/table1.toml"``
+relative to the study file, see :mod:`periodyn.rotor.files`)::
+
+    [campbell]
+    speeds = { start = 0.0, stop = 8000.0, num = 401, unit = "rpm" }   # unit: rad/s, rpm or Hz
+    # or     { values = [4000.0], unit = "rpm" }
+    modes = 8                # optional: the lowest modes by frequency (default all)
+    frame = "auto"           # optional: auto | rotating | stationary
+    eigensolver = "auto"     # optional: auto | dense | subset
+
+    [campbell.grid]          # optional: a grid over builder parameters
+    elements = [5, 20, 80]
+
+Results: one netCDF file, the Campbell dataset (dims: grid parameters, ``speed``,
+``mode``) with ``threshold_speed`` (rad/s, per grid point) as a variable.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from . import cache
+from .checks import FIXED_UNITS, Checker, FileSpec, parameter_check
+from ..errors import InputError
+
+__all__ = ["CampbellSpec", "parse_campbell", "run_campbell"]
+
+_KEYS = ("speeds", "modes", "frame", "eigensolver", "grid")
+_FRAMES = ("auto", "rotating", "stationary")
+_EIGENSOLVERS = ("auto", "dense", "subset")
+
+
+@dataclass(frozen=True)
+class CampbellSpec(FileSpec):
+    """A validated Campbell study: speeds {start, stop, num} or {values} in ``speed_unit``,
+    modes (None: all), frame, eigensolver, grid {builder parameter: values}, rotor file
+    path (None for an example)."""
+
+    speeds: dict
+    speed_unit: str
+    modes: int | None
+    frame: str
+    eigensolver: str
+    grid: dict[str, list]
+    rotor_file: str | None
+
+    @property
+    def kind(self) -> str:
+        """"campbell"."""
+        return "campbell"
+
+    @property
+    def inputs(self) -> dict:
+        """The rotor file's document (a study of a rotor file is stale once it changes)."""
+        return {} if self.rotor_file is None else {"rotor": tomllib.loads(Path(self.rotor_file).read_text())}
+
+    def speed_values(self, omega=None) -> np.ndarray:
+        """Spin speeds (k,) rad/s; ``omega`` (start, stop, num) in the file's unit replaces them."""
+        if omega is not None:
+            values = np.linspace(float(omega[0]), float(omega[1]), int(omega[2]))
+        elif "values" in self.speeds:
+            values = np.asarray(self.speeds["values"], float)
+        else:
+            values = np.linspace(self.speeds["start"], self.speeds["stop"], self.speeds["num"])
+        return values * FIXED_UNITS[self.speed_unit]
+
+    def build(self, **overrides):
+        """The rotor from [model.parameters] (and ``overrides``); builder errors become
+        InputError naming the file."""
+        try:
+            return self.builder(**{**self.parameters, **overrides})
+        except (TypeError, ValueError, ArithmeticError, InputError) as exc:
+            raise InputError(f"{self.source}: [model] {self.example} cannot be built from these parameters "
+                             f"({type(exc).__name__}: {exc}); check [model.parameters] and [campbell.grid]") from None
+
+
+def parse_campbell(check: Checker, table, *, source, name, text, description, example, builder, parameters,
+                   accepted, settable, rotor_file=None) -> CampbellSpec:
+    """Validate a [campbell] table (``check`` names the file)."""
+    c = check.table(table, "[campbell]")
+    check.keys(c, "[campbell]", _KEYS, ("speeds",))
+    sp = check.table(c["speeds"], "[campbell] speeds")
+    speed = lambda v, where: check.number(v, where, nonnegative=True)  # noqa: E731
+    if "values" in sp:
+        check.keys(sp, "[campbell] speeds", ("values", "unit"), ("values", "unit"))
+        speeds = {"values": check.values(sp["values"], "[campbell] speeds.values", speed)}
+    else:
+        check.keys(sp, "[campbell] speeds", ("start", "stop", "num", "unit"), ("start", "stop", "num", "unit"))
+        speeds = {"start": speed(sp["start"], "[campbell] speeds.start"),
+                  "stop": speed(sp["stop"], "[campbell] speeds.stop"),
+                  "num": check.integer(sp["num"], "[campbell] speeds.num", 1)}
+    unit = check.string(sp["unit"], "[campbell] speeds.unit")
+    if unit not in FIXED_UNITS:
+        check.fail("[campbell] speeds.unit", f"unknown unit '{unit}'; use one of: {', '.join(FIXED_UNITS)}")
+    modes = check.integer(c["modes"], "[campbell] modes", 1) if "modes" in c else None
+    choices = {}
+    for key, allowed in (("frame", _FRAMES), ("eigensolver", _EIGENSOLVERS)):
+        choices[key] = check.string(c.get(key, "auto"), f"[campbell] {key}")
+        if choices[key] not in allowed:
+            check.fail(f"[campbell] {key}", f"unknown {key} '{choices[key]}'; choose one of: {', '.join(allowed)}")
+    grid_table = check.table(c.get("grid", {}), "[campbell.grid]")
+    check.keys(grid_table, f"[campbell.grid] (parameters of {example})", settable)
+    grid = {k: check.values(v, f"[campbell.grid] {k}", parameter_check(check, accepted[k]))
+            for k, v in grid_table.items()}
+    return CampbellSpec(source, name, text, description, example, builder, parameters, speeds, unit, modes,
+                        choices["frame"], choices["eigensolver"], grid, rotor_file)
+
+
+def run_campbell(spec: CampbellSpec, out, *, omega=None, resume: bool = False, **_unused) -> xr.Dataset:
+    """Compute the Campbell dataset of ``spec`` (every grid point) and write ``out`` ->
+    Dataset; with ``resume`` a current ``out`` is read and one made otherwise refused."""
+    from ..results import load, package_versions, save
+    from ..rotor import campbell
+
+    if cache.finished(out, spec, omega, resume):
+        return load(out)
+    speeds = spec.speed_values(omega)
+    names = list(spec.grid)
+    points = []
+    for values in itertools.product(*spec.grid.values()):
+        ds = campbell(spec.build(**dict(zip(names, values))), speeds, modes=spec.modes, frame=spec.frame,
+                      method=spec.eigensolver)
+        threshold = ds.attrs.pop("threshold_speed")
+        points.append(ds.assign(threshold_speed=((), threshold, {"units": "rad/s"})))
+    ds = _stack(points, names, list(spec.grid.values()))
+    ds.attrs.update({"model": spec.example, "description": spec.description, "speed_unit": spec.speed_unit,
+                     "versions": json.dumps(package_versions()), **cache.stamp(spec, omega)})
+    save(ds, out)
+    return ds
+
+
+def _stack(points: list[xr.Dataset], names: list[str], values: list[list]) -> xr.Dataset:
+    """Datasets of a grid (row-major, last name fastest) stacked along one dimension per name."""
+    if not names:
+        return points[0]
+    size = len(points) // len(values[0])
+    rows = [_stack(points[i * size:(i + 1) * size], names[1:], values[1:]) for i in range(len(values[0]))]
+    return xr.concat(rows, dim=xr.Variable(names[0], values[0]), combine_attrs="drop_conflicts")
