@@ -119,7 +119,7 @@ class StudySpec(FileSpec):
 def parse_continuation(check: Checker, table, *, source, name, text, description, example, builder,
                        parameters) -> StudySpec:
     """Validate a [continuation] table (``check`` names the file)."""
-    from ..nonlinear.orbit_linearization import STABILITY_METHODS
+    from ..stability.methods import names
 
     c = check.table(table, "[continuation]")
     check.keys(c, "[continuation]", _KEYS, ("omega", "harmonics"))
@@ -153,8 +153,8 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     stability = c.get("stability", "magnus")
     if stability is False:
         options["stability"] = None
-    elif not isinstance(stability, str) or stability not in STABILITY_METHODS:
-        check.fail("[continuation] stability", f"must be one of {', '.join(STABILITY_METHODS)} or false, "
+    elif not isinstance(stability, str) or stability not in names():
+        check.fail("[continuation] stability", f"must be one of {', '.join(names())} or false, "
                                                f"got {stability!r}")
     else:
         options["stability"] = stability

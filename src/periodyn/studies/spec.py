@@ -15,8 +15,8 @@ Format (every key except those marked optional is required)::
     # or   { values = [0.1, 0.2], unit = "rad/s" }
     harmonics = 12
     samples = 64                  # optional: samples per period (default: the builder's)
-    stability = true              # optional, default true
-    method = "auto"               # optional: auto | sparse | dense | monodromy | magnus
+    stability = true              # optional: true (= "auto"), false, or a stability method:
+                                  # auto | hill | sparse | dense | monodromy | magnus
     output_units = { phi = "rad" }  # optional: unit of each output in the results
 
     [sweep.grid]                  # optional: a grid over builder parameters
@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import difflib
 import functools
+import warnings
 import inspect
 import math
 import tomllib
@@ -59,7 +60,7 @@ from .checks import FIXED_UNITS, MAX_POINTS, Checker, FileSpec
 from .elements import MODEL_FORM_KEYS, check_element_form, element_model
 from ..engine.job import reference_frequencies
 from ..errors import InputError
-from ..stability.hill import METHODS
+from ..stability.methods import names
 from ..results import load_if_made_from
 from .continuation import StudySpec, ensure_study, parse_continuation
 from ..engine.front import sweep_file
@@ -285,12 +286,7 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
     if samples is not None and samples < 2 * harmonics + 1:
         check.fail("[sweep] samples", f"{samples} samples cannot resolve {harmonics} harmonics; "
                                       f"use samples >= {2 * harmonics + 1} (>= {4 * harmonics + 1} recommended)")
-    stability = check.boolean(sweep.get("stability", True), "[sweep] stability")
-    method = check.string(sweep.get("method", "auto"), "[sweep] method")
-    if method not in METHODS:
-        near = difflib.get_close_matches(method, METHODS, n=1, cutoff=0.6)
-        check.fail("[sweep] method", f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
-                   + f"choose one of: {', '.join(METHODS)}")
+    stability, method = _stability(check, sweep)
 
     grid_table = check.table(sweep.get("grid", {}), "[sweep.grid]")
     if grid_table and not settable:
@@ -304,6 +300,31 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep") ->
         check.fail("[sweep.grid]", f"{points} points is more than {MAX_POINTS}; split the sweep")
     return SweepSpec(source, name, text, description, example, builder, parameters, omega_spec, unit,
                      harmonics, samples, stability, method, grid, output_units)
+
+
+def _stability(check: Checker, sweep: dict) -> tuple[bool, str]:
+    """(stability on, method) from ``stability = true | false | "<method>"`` and the old
+    ``method = "<method>"`` key (still read, with a DeprecationWarning)."""
+    stability = sweep.get("stability", True)
+    method, where = "auto", "[sweep] stability"
+    if "method" in sweep:
+        if isinstance(stability, str):
+            check.fail("[sweep] method", f"give the stability method once: stability = \"{stability}\" (method is "
+                                         "its old name)")
+        method, where = check.string(sweep["method"], "[sweep] method"), "[sweep] method"
+        warnings.warn(f"{check.source}: [sweep] method = \"{method}\" is the old name of stability = \"{method}\" "
+                      "(stability = false keeps it off); the old key goes in the next release", DeprecationWarning,
+                      stacklevel=2)
+    if isinstance(stability, str):
+        method, stability = stability, True
+    else:
+        stability = check.boolean(stability, "[sweep] stability")
+    if method not in names():
+        near = difflib.get_close_matches(method, names(), n=1, cutoff=0.6)
+        check.fail(where, ("must be true or false or a stability method, " if where.endswith("stability") else "")
+                   + f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
+                   + f"choose one of: {', '.join(names())}")
+    return stability, method
 
 
 def load_sweep_file(path) -> SweepSpec | StudySpec | TransientSpec:
