@@ -306,25 +306,28 @@ def _stability(check: Checker, sweep: dict) -> tuple[bool, str]:
     """(stability on, method) from ``stability = true | false | "<method>"`` and the old
     ``method = "<method>"`` key (still read, with a DeprecationWarning)."""
     stability = sweep.get("stability", True)
-    method, where = "auto", "[sweep] stability"
-    if "method" in sweep:
-        if isinstance(stability, str):
+    if isinstance(stability, str):
+        _known_method(check, stability, "[sweep] stability", "must be true or false or a stability method, ")
+        if "method" in sweep:
             check.fail("[sweep] method", f"give the stability method once: stability = \"{stability}\" (method is "
                                          "its old name)")
-        method, where = check.string(sweep["method"], "[sweep] method"), "[sweep] method"
-        warnings.warn(f"{check.source}: [sweep] method = \"{method}\" is the old name of stability = \"{method}\" "
-                      "(stability = false keeps it off); the old key goes in the next release", DeprecationWarning,
-                      stacklevel=2)
-    if isinstance(stability, str):
-        method, stability = stability, True
-    else:
-        stability = check.boolean(stability, "[sweep] stability")
+        return True, stability
+    stability = check.boolean(stability, "[sweep] stability")
+    if "method" not in sweep:
+        return stability, "auto"
+    method = _known_method(check, check.string(sweep["method"], "[sweep] method"), "[sweep] method")
+    warnings.warn(f"{check.source}: [sweep] method = \"{method}\" is the old name of stability = \"{method}\" "
+                  "(stability = false keeps it off); the old key goes in the next release", DeprecationWarning,
+                  stacklevel=3)
+    return stability, method
+
+
+def _known_method(check: Checker, method: str, where: str, lead: str = "") -> str:
     if method not in names():
         near = difflib.get_close_matches(method, names(), n=1, cutoff=0.6)
-        check.fail(where, ("must be true or false or a stability method, " if where.endswith("stability") else "")
-                   + f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
+        check.fail(where, lead + f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
                    + f"choose one of: {', '.join(names())}")
-    return stability, method
+    return method
 
 
 def load_sweep_file(path) -> SweepSpec | StudySpec | TransientSpec:

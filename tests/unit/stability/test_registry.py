@@ -92,6 +92,6 @@ def test_hill_is_the_cheaper_hill_method_everywhere():
     hill = periodyn.characteristic_exponents(model.at(w), 4, method="hill")
     chosen, reason = methods.choose_method(periodyn.harmonic.HarmonicOperator.for_system(model.at(w), 4).at(w))
     assert hill.method == chosen and hill.reason == reason
-    batch = SpeedSolver(model, 4, "hill").solve_many([w])
-    np.testing.assert_array_equal(batch.exponents[0], hill.exponents)
+    batch = SpeedSolver(model, 4, "hill").solve_many([w])  # dense: stacked LAPACK, equal to round-off
+    np.testing.assert_allclose(batch.exponents[0], hill.exponents, rtol=1e-13)
     assert batch.method[0] == chosen
