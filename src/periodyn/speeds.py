@@ -157,14 +157,14 @@ class SpeedSolver:
         # otherwise speed by speed
         self.balance = BalanceBatch(op, half_period_signs(*model._power_spectra[:3]))
         self.storage, self.batch_balance = self.balance.storage, self.balance.kind
-        self.checker = SpeedStability(model, op, self.method)
-        self.dense_hill = self.stability and self.checker.dense_hill
+        self.speed_stability = SpeedStability(model, op, self.method)
+        self.dense_hill = self.stability and self.speed_stability.dense_hill
 
     @property
     def ladder(self):
         """The model's certified Magnus ladder (:class:`periodyn.stability.magnus.MagnusLadder`)
         that the method "auto" climbs (built once, on first use)."""
-        return self.checker.prepared("auto")
+        return self.speed_stability.prepared("auto")
 
     def operator(self, omega: float) -> HillOperator:
         """The Hill/HB operator at driving speed omega (rad/s)."""
@@ -174,12 +174,12 @@ class SpeedSolver:
         """Hill method at each speed (rad/s), why, and its estimated seconds: "auto"
         chooses per speed by estimated cost (:func:`periodyn.stability.methods.choose_method`),
         as the per-speed path does."""
-        return self.checker.hill_choices(check_speeds(omegas))
+        return self.speed_stability.hill_choices(check_speeds(omegas))
 
     def stability_methods(self, omegas) -> list[tuple[str, str]]:
         """Stability method at each speed (rad/s) and why (for "auto": Magnus where its
         error estimate certifies the verdict within Hill's estimated cost, else Hill)."""
-        names, reasons = self.checker.choose(check_speeds(omegas))[:2]
+        names, reasons = self.speed_stability.choose(check_speeds(omegas))[:2]
         return list(zip(names, reasons))
 
     def speed_costs(self, omegas) -> np.ndarray:
@@ -193,7 +193,7 @@ class SpeedSolver:
         w = check_speeds(omegas)
         pat = self.pattern
         hb = _HB_SETUP + min(pat.size**3 / 3.0, 2.0 * pat.size * pat.half_bandwidth**2) / _HB_RATE
-        return self.checker.costs(w, hb) if self.stability else np.full(w.size, hb)
+        return self.speed_stability.costs(w, hb) if self.stability else np.full(w.size, hb)
 
     def solve(self, omega: float) -> PointResult:
         """Periodic solution and stability at one speed (rad/s); raises ConvergenceError
@@ -231,7 +231,7 @@ class SpeedSolver:
         M = (H - 1) // 2
         harmonics = spectrum[:, M - self.m: M + self.m + 1]
         if self.stability:
-            exps, message, methods = self.checker.solve(w)
+            exps, message, methods = self.speed_stability.solve(w)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
             stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
@@ -274,4 +274,4 @@ def warm_up() -> None:
     model = OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [np.full((p, 1, 1), 0.1)],
                                          [(1.0 + 0.2 * np.cos(theta))[:, None, None]], [np.cos(theta)[:, None]])
     for method in ("dense", "magnus", "auto"):
-        SpeedSolver(model, 2, method).solve_many([0.7])
+        SpeedSolver(model, 2, stability=method).solve_many([0.7])
