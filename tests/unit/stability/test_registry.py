@@ -1,5 +1,6 @@
 """The one registry of stability methods (periodyn.stability.methods): a method registered
-there serves scalar calls, sweeps, boundaries and orbits alike; ``stability=`` names it."""
+there serves scalar calls, sweeps (batched and point by point), boundaries and orbits
+alike; ``stability=`` names it."""
 
 import dataclasses
 
@@ -60,6 +61,8 @@ def test_a_registered_method_serves_scalar_calls_sweeps_and_boundaries(registry)
     magnus = stability_boundaries(model.at, np.array([0.85, 0.95]) * w0, 4, method="magnus", xtol=1e-8)
     assert len(found) == len(magnus) == 1 and found[0].kind == magnus[0].kind
     assert abs(found[0].omega - magnus[0].omega) < 1e-4 * w0
+    orbit = periodyn.ihb(periodyn.examples.pendulum_nonlinear(), 0.8 * w0, 5, stability="fine-magnus")
+    assert orbit.stability.method == "fine-magnus"
 
 
 def test_stability_names_the_method_and_method_is_deprecated():
@@ -73,7 +76,7 @@ def test_stability_names_the_method_and_method_is_deprecated():
     assert set(new.stability_method.values) == {"dense"}
     off = periodyn.sweep(model, speeds, 4, stability=False, progress=False)
     assert off.attrs["stability_methods"] == "none (stability off)"
-    with pytest.raises(InputError, match="disagree"):
+    with pytest.raises(InputError, match="disagree"), pytest.warns(DeprecationWarning):
         periodyn.sweep(model, speeds, 4, stability="dense", method="sparse", progress=False)
     with pytest.raises(InputError, match="unknown method 'fast'"):
         periodyn.sweep(model, speeds, 4, stability="fast", progress=False)
