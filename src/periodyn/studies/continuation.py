@@ -154,7 +154,8 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     if stability is False:
         options["stability"] = None
     elif not isinstance(stability, str) or stability not in names():
-        check.fail("[continuation] stability", f"must be one of {', '.join(names())} or false, "
+        choices = ("magnus", *(name for name in names() if name != "magnus"))  # the default first
+        check.fail("[continuation] stability", f"must be one of {', '.join(choices)} or false, "
                                                f"got {stability!r}")
     else:
         options["stability"] = stability
