@@ -39,11 +39,11 @@ def main() -> None:
     small, big = rotor(5), rotor(50)
     t_small, _ = best_time(lambda: campbell(small, speeds, modes=8))
     print(f"5 elements  ({small.n:3d} coordinates), dense,  {args.speeds} speeds: {t_small:7.3f} s")
-    t_subset, sub = best_time(lambda: campbell(big, speeds, modes=8, method="subset"), repeat=1)
+    t_subset, sub = best_time(lambda: campbell(big, speeds, modes=8, eigensolver="subset"), repeat=1)
     print(f"50 elements ({big.n:3d} coordinates), subset, {args.speeds} speeds: {t_subset:7.3f} s"
           f"  ({t_subset / t_small:.1f}x the 5-element time for {big.n / small.n:.0f}x the coordinates)")
     every = max(1, args.speeds // 50)
-    t_dense, dense = best_time(lambda: campbell(big, speeds[::every], modes=8, method="dense"), repeat=1)
+    t_dense, dense = best_time(lambda: campbell(big, speeds[::every], modes=8, eigensolver="dense"), repeat=1)
     scaled = t_dense * args.speeds / speeds[::every].size
     diff = np.abs(sub.eigenvalue.values[::every] - dense.eigenvalue.values) / np.abs(dense.eigenvalue.values)
     print(f"50 elements, dense on {speeds[::every].size} speeds scaled to {args.speeds}: {scaled:7.3f} s"

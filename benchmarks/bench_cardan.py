@@ -27,7 +27,7 @@ import periodyn  # noqa: E402
 def timed_sweep(model, omega, method, workers, harmonics):
     """(speeds per second, dataset) of one sweep with stability."""
     t0 = time.perf_counter()
-    data = periodyn.sweep(model, omega, harmonics, stability=True, method=method, workers=workers, progress=False)
+    data = periodyn.sweep(model, omega, harmonics, stability=method, workers=workers, progress=False)
     return omega.size / (time.perf_counter() - t0), data
 
 
@@ -45,7 +45,7 @@ def main():
     m = args.harmonics
     # warm-up: compile and start the workers' imports once before timing
     for method in ("auto", "magnus", "dense", "monodromy"):
-        periodyn.sweep(model, omega[:2], m, stability=True, method=method, progress=False)
+        periodyn.sweep(model, omega[:2], m, stability=method, progress=False)
     rates, data = {}, {}
     for name, speeds in (("auto", omega), ("magnus", omega), ("dense", subset), ("monodromy", subset)):
         rates[name], data[name] = timed_sweep(model, speeds, name, args.workers, m)
@@ -88,7 +88,7 @@ def main():
 def certified_errors(model, speeds, m):
     """The Magnus ladder's certified error of log max|mu| (S,) at speeds (as "auto" runs it)."""
     from periodyn.speeds import SpeedSolver
-    from periodyn.stability.hill import HILL_TIME_FACTOR
+    from periodyn.stability.methods import HILL_TIME_FACTOR
 
     solver = SpeedSolver(model, m)
     seconds = np.array([c for _, _, c in solver.hill_methods(speeds)])

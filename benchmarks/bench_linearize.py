@@ -85,11 +85,11 @@ def main(argv=None) -> None:
     subset = omega[:: max(1, args.speeds // args.relinearize_subset)]
     for stability in (False, True):
         label = f"with stability (method {args.method})" if stability else "periodic solution only"
-        solver = SpeedSolver(split, args.harmonics, stability=stability, method=args.method)
+        solver = SpeedSolver(split, args.harmonics, stability=args.method if stability else False)
         solver.solve_many(omega[:2])  # warm-up (jit, caches)
         t_split = best_time(lambda: solver.solve_many(omega), repeat=3)
         relin = lambda: [periodyn.solve_point(rheo_linear(model, w, args.samples), args.harmonics,  # noqa: E731
-                                              stability=stability, method=args.method) for w in subset]
+                                              stability=args.method if stability else False) for w in subset]
         relin()
         t_relin = best_time(relin, repeat=2) / subset.size * args.speeds
         print(f"{args.speeds}-speed sweep, {label} (m = {args.harmonics}, one core)")
@@ -98,7 +98,7 @@ def main(argv=None) -> None:
               f"(timed on {subset.size} speeds)")
         print(f"  speed-up: {t_relin / t_split:.1f}x")
     t0 = time.perf_counter()
-    sweep(split, omega, args.harmonics, stability=True, method=args.method, workers=1, progress=False)
+    sweep(split, omega, args.harmonics, stability=args.method, workers=1, progress=False)
     t = time.perf_counter() - t0
     print(f"  periodyn.sweep (omega-split, stability, workers=1, incl. result dataset): {t:.2f} s  "
           f"{args.speeds / t:.0f} speeds/s")

@@ -37,7 +37,8 @@ import periodyn  # noqa: E402
 from periodyn.speeds import SpeedSolver  # noqa: E402
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model  # noqa: E402
 from periodyn.studies.spec import load_sweep_file, project_root  # noqa: E402
-from periodyn.stability.hill import _shift_frequencies, dense_exponents_batch, method_costs  # noqa: E402
+from periodyn.stability.hill import dense_exponents_batch, shift_frequencies  # noqa: E402
+from periodyn.stability.methods import method_costs  # noqa: E402
 from periodyn.model.linearization import omega_split  # noqa: E402
 from periodyn.kernels.solvers.magnus_ladder import streamed_moduli  # noqa: E402
 from periodyn.stability.magnus import MagnusLadder  # noqa: E402
@@ -66,11 +67,11 @@ def pilot(solver, omegas, budget):
 def row(name, model, m, omegas, budget, rounds=3):
     """Best of ``rounds`` interleaved timings of each method on speeds spread evenly over
     the range (as many as the method treats in about budget / 3 s)."""
-    solvers = {k: SpeedSolver(model, m, method=k) for k in METHODS}
+    solvers = {k: SpeedSolver(model, m, stability=k) for k in METHODS}
     if method_costs(solvers["dense"].pattern)[0] > budget:
         del solvers["dense"]
     per_shift = method_costs(solvers["sparse"].pattern)[1]
-    if per_shift * _shift_frequencies(solvers["sparse"].harmonic.at(omegas[0])).size > budget:
+    if per_shift * shift_frequencies(solvers["sparse"].harmonic.at(omegas[0])).size > budget:
         del solvers["sparse"]
     spread = {k: omegas[np.unique(np.linspace(0, omegas.size - 1, pilot(s, omegas, budget)).round().astype(int))]
               for k, s in solvers.items()}  # evenly over the range
@@ -128,7 +129,7 @@ def per_speed(rounds: int = 3, m: int = 12) -> None:
           f"{'lad/dense':>10}   steps ladder / 6 / 4 (median/max)   orders   same verdicts")
     for name, model, w in cases:
         ladders = {k: MagnusLadder(*model._power_spectra[:3], order=k) for k in (None, 6, 4)}
-        solver = SpeedSolver(model, m, method="dense")
+        solver = SpeedSolver(model, m, stability="dense")
         arms = {"ladder": lambda: ladders[None].solve(w, np.inf), "magnus6": lambda: ladders[6].solve(w, np.inf),
                 "magnus4": lambda: ladders[4].solve(w, np.inf),
                 "dense": lambda: dense_exponents_batch(solver.harmonic.real_first_order_many(w), w, m, model.n)[0]}

@@ -25,7 +25,7 @@ _PUBLIC = {
     "DAE": "dae", "rheo_linear_dae": "dae", "element_dae": "nonlinear.elements",
     # methods
     "periodic_solution": "harmonic.balance", "AliasingWarning": "harmonic.operator",
-    "characteristic_exponents": "stability.hill", "hill_exponents": "stability.hill",
+    "characteristic_exponents": "stability.methods", "hill_exponents": "stability.methods",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",
     "ihb": "nonlinear.ihb_solver", "shooting": "nonlinear.shooting_solver", "element_outputs": "nonlinear.elements",
     "solve_point": "speeds", "campbell": "rotor.diagram",

@@ -17,7 +17,8 @@ import sys
 import types
 import warnings
 
-#: old module (below periodyn) -> its module now
+#: old module (below periodyn) -> its module now (a tuple: the modules its names went to,
+#: looked up in order)
 MOVED = {
     "_forkserver_preload": "engine._forkserver_preload",
     "analysis": "speeds",
@@ -28,7 +29,7 @@ MOVED = {
     "floquet": "stability.floquet",
     "harmonic.batch": "harmonic.batch_balance",
     "hb": "harmonic.balance",
-    "hill": "stability.hill",
+    "hill": ("stability.hill", "stability.methods"),
     "kernels.assembly": "kernels.mechanism.assembly",
     "kernels.banded": "kernels.solvers.banded",
     "kernels.constraints": "kernels.mechanism.constraint_system",
@@ -79,17 +80,24 @@ MOVED = {
 
 
 class _Forward(importlib.abc.Loader):
-    def __init__(self, new: str):
+    def __init__(self, new: tuple[str, ...]):
         self.new = new
 
     def create_module(self, spec):
         return None
 
     def exec_module(self, module: types.ModuleType) -> None:
-        target = importlib.import_module(self.new)
-        module.__getattr__ = lambda name: getattr(target, name)
-        module.__dir__ = lambda: dir(target)
-        module.__doc__ = f"Moved to {self.new} (this path is deprecated)."
+        targets = [importlib.import_module(name) for name in self.new]
+
+        def forward(name):
+            for target in targets:
+                if hasattr(target, name):
+                    return getattr(target, name)
+            return getattr(targets[0], name)
+
+        module.__getattr__ = forward
+        module.__dir__ = lambda: sorted(set().union(*map(dir, targets)))
+        module.__doc__ = f"Moved to {', '.join(self.new)} (this path is deprecated)."
 
 
 class MovedModules(importlib.abc.MetaPathFinder):
@@ -99,9 +107,10 @@ class MovedModules(importlib.abc.MetaPathFinder):
         old = fullname.partition("periodyn.")[2] if fullname.startswith("periodyn.") else None
         if old not in MOVED:
             return None
-        new = f"periodyn.{MOVED[old]}"
-        warnings.warn(f"{fullname} moved to {new}; the old path goes in the next release", DeprecationWarning,
-                      stacklevel=3)
+        moved = MOVED[old] if isinstance(MOVED[old], tuple) else (MOVED[old],)
+        new = tuple(f"periodyn.{name}" for name in moved)
+        warnings.warn(f"{fullname} moved to {' and '.join(new)}; the old path goes in the next release",
+                      DeprecationWarning, stacklevel=3)
         return importlib.util.spec_from_loader(fullname, _Forward(new))
 
 

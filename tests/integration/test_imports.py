@@ -253,7 +253,7 @@ def test_an_old_import_path_forwards_to_the_new_module_with_a_deprecation_warnin
             "    raise SystemExit('no warning')\n"
             "warnings.simplefilter('ignore', DeprecationWarning)\n"
             "from periodyn.hill import characteristic_exponents\n"
-            "from periodyn.stability.hill import characteristic_exponents as new\n"
+            "from periodyn.stability.methods import characteristic_exponents as new\n"
             "assert characteristic_exponents is new\n"
             "from periodyn.config import ensure\n"
             "from periodyn.studies.spec import ensure as new_ensure\n"

@@ -189,12 +189,12 @@ def test_dense_hill_beyond_the_terms_budget_goes_speed_by_speed(monkeypatch):
     """A model whose real first-order Hill terms would exceed DENSE_TERMS_BYTES builds its
     dense Hill matrix per speed (the terms are never formed) and gets the stacked path's
     exponents."""
-    import periodyn.speeds as analysis
+    import periodyn.stability.batch as batch
 
     model = periodyn.examples.slider_crank(damping=0.02, samples=32)
     speeds = np.array([150.0, 220.0, 300.0])
     stacked = SpeedSolver(model, 6, method="dense").solve_many(speeds)
-    monkeypatch.setattr(analysis, "DENSE_TERMS_BYTES", 0.0)
+    monkeypatch.setattr(batch, "DENSE_TERMS_BYTES", 0.0)
     solver = SpeedSolver(model, 6, method="dense")
     one_by_one = solver.solve_many(speeds)
     assert not solver.dense_hill and "real_first_order_terms" not in solver.harmonic.__dict__

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..nonlinear.ihb_solver import IHBProblem, ihb
-from ..nonlinear.orbit_linearization import STABILITY_METHODS
+from ..stability.methods import check_method
 from ..errors import ConvergenceError, InputError
 from ..nonlinear.jacobian_reuse import ChordEquations
 from ..nonlinear.elements import as_dae
@@ -73,8 +73,8 @@ class ContinuationOptions:
             raise InputError(f"confirm must be True, False or 'truncation', got {self.confirm!r}")
         if self.shooting_method not in ("auto", "DOP853", "implicit"):
             raise InputError(f"shooting_method must be 'auto', 'DOP853' or 'implicit', got {self.shooting_method!r}")
-        if self.stability is not None and self.stability not in STABILITY_METHODS:
-            raise InputError(f"stability must be one of {STABILITY_METHODS} or None, got {self.stability!r}")
+        if self.stability is not None:
+            check_method(self.stability)
 
 
 class _Discretization:

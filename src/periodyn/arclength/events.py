@@ -1,10 +1,10 @@
 """Special points between two branch points: one classifier, one root refinement.
 
 Classification (:func:`classify`): a fold where the parameter component of the tangent,
-dp/ds, changes sign; a period doubling where a real multiplier leaves (or enters) the
-unit circle through -1; a Neimark-Sacker bifurcation where a complex pair does; a branch
-point (symmetry-breaking pitchfork or transcritical) where a real multiplier crosses +1
-while dp/ds keeps its sign (with a sign change of dp/ds the +1 crossing is the fold).
+dp/ds, changes sign; a multiplier crossing of the unit circle typed by the one classifier
+of :mod:`periodyn.stability.crossings` (period doubling through -1, Neimark-Sacker for a
+complex pair); a crossing of +1 is a branch point (symmetry-breaking pitchfork or
+transcritical) while dp/ds keeps its sign (with a sign change of dp/ds it is the fold).
 Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
 indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
 point solved by the corrector), multiplier crossings fixed-parameter Newton solves with
@@ -19,19 +19,9 @@ from typing import Callable
 
 import numpy as np
 
+from ..stability.crossings import KINDS, classify_crossing, of_kind
+
 __all__ = ["KINDS", "branch_test", "classify", "crossing_test", "illinois", "of_kind", "same_point"]
-
-KINDS = {"fold": "real > 0", "branch-point": "real > 0", "period-doubling": "real < 0", "neimark-sacker": "complex"}
-_IMAG = 1e-6  # relative imaginary part below which a multiplier counts as real
-
-
-def of_kind(mu, kind: str) -> np.ndarray:
-    """The multipliers of one kind of ``KINDS`` ("real > 0", "real < 0", "complex")."""
-    mu = np.asarray(mu, complex)
-    real = np.abs(mu.imag) <= _IMAG * np.maximum(np.abs(mu), 1e-300)
-    if kind == "complex":
-        return mu[~real]
-    return mu[real & ((mu.real > 0) if kind == "real > 0" else (mu.real < 0))]
 
 
 def _nearest(sel) -> complex:
@@ -87,14 +77,10 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
         c2 = other[int(np.argmin(np.abs(other - c)))]  # the multiplier on the other side that continues c
         if abs(c2) > 1:
             continue
-        if abs(c.imag) > 1e-6 * abs(c) and abs(c2.imag) > 1e-6 * abs(c2):
-            typ = "neimark-sacker"
-        elif c.real < 0:
-            typ = "period-doubling"
-        elif out and out[0][0] == "fold":
+        typ = classify_crossing(c, c2)  # through +1: the fold's, or with dp/ds of one sign a branch point
+        if typ == "fold" and out and out[0][0] == "fold":
             continue  # the +1 crossing of the fold, reported from dp/ds
-        else:
-            typ = "branch-point"
+        typ = "branch-point" if typ == "fold" else typ
         if any(o[0] == typ for o in out):
             continue  # one refined location per type and bracket
         if typ == "branch-point":

@@ -35,7 +35,7 @@ from .options import ExecutionOptions, OutputOptions, check_int
 from .threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, auto_workers
 from .warmup import COMPILE_NOTE, kernels_cached
 from ..errors import InputError
-from ..stability.hill import METHODS
+from ..stability.methods import method_named, stability_choice
 from .progress import Progress
 from ..results import STATUS_SOLVED, load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
@@ -80,7 +80,8 @@ def _finished(out: Path, key: str, resume: bool) -> xr.Dataset | None:
     return finished
 
 
-def sweep(model, omega, harmonics: int, samples: int | None = None, stability: bool = True, method: str = "auto", *,
+def sweep(model, omega, harmonics: int, samples: int | None = None, stability: bool | str = True,
+          method: str | None = None, *,
           parameters: Mapping[str, Sequence] | None = None, workers: int = 1, out=None, resume: bool = False,
           progress: bool | None | Callable[[int, int], None] = None, execution: ExecutionOptions | None = None,
           output: OutputOptions | None = None) -> xr.Dataset:
@@ -89,7 +90,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     model: a :class:`periodyn.OmegaSplitModel`, a callable omega (rad/s) -> RheoLinear, or,
         with ``parameters``, a builder called as ``model(**point)`` returning either.
     omega: speeds (k,), rad/s, > 0. harmonics: m >= 1. samples: p (resamples an
-        OmegaSplitModel; None keeps the model's). stability/method: as in ``solve_point``.
+        OmegaSplitModel; None keeps the model's). stability: True (= "auto"), False, or a
+        stability method (:func:`periodyn.stability.methods.names`); method: its deprecated name.
     parameters: grid ``{name: values}``; the result gets one dimension per name, in order.
     workers: processes (1 = in this process, 0 = all cores).
     out: result file; chunks are checkpointed in ``<out>.parts/`` and ``resume=True``
@@ -110,8 +112,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     w = check_speeds(omega)
     m = check_int("harmonics", harmonics, 1)
     p = None if samples is None else check_int("samples", samples, 1)
-    if method not in METHODS:
-        raise InputError(f"unknown method {method!r}; choose one of {METHODS}")
+    stability, method = stability_choice(stability, method)
     workers = check_int("workers", workers, 0) or available_cores()
     if resume and out is None:
         raise InputError("resume=True needs out=<result file>: the checkpoints live in <out>.parts/")
@@ -125,9 +126,9 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     if reference is None:
         reference = next(iter(reference_frequencies(first_model).items()), None)
     units = output.units_for(probe.output_names, first_model)
-    job = Job(source, w, m, bool(stability), method, len(probe.output_names), 2 * probe.n)
+    job = Job(source, w, m, stability, method, len(probe.output_names), 2 * probe.n)
     model_name = output.name or getattr(first_model, "name", None) or getattr(model, "__name__", "model")
-    options = {"model": model_name, "harmonics": m, "samples": probe.samples, "stability": bool(stability),
+    options = {"model": model_name, "harmonics": m, "samples": probe.samples, "stability": stability,
                "method": method, "parameters": list(grid_names)}
     total = int(np.prod(job.shape))
     backend = "dask" if execution.scheduler is not None else "processes" if workers > 1 else "serial"
@@ -185,18 +186,15 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     return ds
 
 
-AUTO_RULE = ("auto: Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
-             "below the stability tolerance and the verdict cannot flip, at less than the estimated cost of Hill; "
-             "else dense or sparse Hill, whichever is estimated cheaper (per point: variable stability_method)")
-
-
 def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:
-    """Dataset attribute: how many points each stability method served, and auto's rule."""
+    """Dataset attribute: how many points each stability method served, and the rule of a
+    method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
     if not stability:
         return "none (stability off)"
     names, counts = np.unique(np.asarray(methods, dtype=str), return_counts=True)
     text = ", ".join(f"{name or 'failed'} {count}" for name, count in zip(names, counts))
-    return f"{text}; {AUTO_RULE}" if method == "auto" else text
+    rule = method_named(method).rule
+    return f"{text}; {rule}" if rule else text
 
 
 def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=None, resume: bool = False,
@@ -207,7 +205,7 @@ def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=
     if workers == "auto":
         workers = auto_workers(spec.points(omega))
     plan = spec.plan(omega)
-    return sweep(plan.model, plan.omega, spec.harmonics, spec.samples, spec.stability, spec.method,
+    return sweep(plan.model, plan.omega, spec.harmonics, spec.samples, spec.method if spec.stability else False,
                  parameters=plan.parameters, workers=workers, out=out, resume=resume, progress=progress,
                  execution=ExecutionOptions(scheduler, chunk_size),
                  output=OutputOptions(spec.example, plan.reference, spec.output_units or None, spec.text))

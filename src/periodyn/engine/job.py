@@ -129,7 +129,8 @@ class Job:
         solver = self._solvers.get(grid_index)
         if solver is None:
             model = self.source.model_at(grid_index)
-            solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, self.stability, self.method)
+            stability = self.method if self.stability else False
+            solver = self._solvers[grid_index] = SpeedSolver(model, self.harmonics, stability)
         return solver
 
     def batch(self, grid_index: tuple[int, ...], omegas: np.ndarray) -> SpeedBatch:
@@ -143,7 +144,7 @@ class Job:
         for w in omegas:
             try:
                 points.append(solve_point(self.source.system(grid_index, w), self.harmonics,
-                                          stability=self.stability, method=self.method))
+                                          stability=self.method if self.stability else False))
                 messages.append("")
             except ConvergenceError as exc:
                 points.append(None)

@@ -38,14 +38,14 @@ def _element_models() -> None:
     from ..examples import slider_crank
 
     model = slider_crank(samples=16)
-    SpeedSolver(model, 3, method="magnus").solve_many([200.0])
+    SpeedSolver(model, 3, stability="magnus").solve_many([200.0])
 
 
 def _spatial_models() -> None:
     from ..speeds import SpeedSolver
     from ..examples import cardan_shaft
 
-    SpeedSolver(cardan_shaft(samples=32), 6, method="magnus").solve_many([400.0])
+    SpeedSolver(cardan_shaft(samples=32), 6, stability="magnus").solve_many([400.0])
 
 
 def _nonlinear_element_models() -> None:

@@ -13,8 +13,8 @@ gives the null-space basis ``N(t) = [I; -Phi_v^-1 Phi_u]`` (in the original orde
 with N', N'' by spectral differentiation of the samples of N. The result is the same
 ``periodyn.RheoLinear`` the rheo-linear path uses (omega = the orbit's base frequency
 omega/nu, so its period is the orbit period), so Hill (dense/sparse), Magnus and the
-monodromy reference of ``periodyn.stability.hill.characteristic_exponents`` all give the orbit's
-Floquet exponents (:func:`orbit_exponents`).
+monodromy reference of the stability registry (:mod:`periodyn.stability.methods`) all give
+the orbit's Floquet exponents (:func:`orbit_exponents`).
 """
 
 from __future__ import annotations
@@ -24,16 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError
 from ..stability.floquet import FloquetExponents
-from ..stability.hill import hill_exponents
+from ..stability.methods import method_named, spectra_operator
 from ..numerics.spectra import fourier_coefficients, to_samples
 from ..system import RheoLinear
-from ..stability.monodromy import monodromy_exponents
 
-__all__ = ["OrbitLinearization", "linearize_orbit", "orbit_exponents", "STABILITY_METHODS"]
-
-STABILITY_METHODS = ("magnus", "monodromy", "hill", "dense", "sparse")
+__all__ = ["OrbitLinearization", "linearize_orbit", "orbit_exponents"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,20 +113,17 @@ def linearize_orbit(system, t, q, qd, qdd, lam, omega, params, period) -> OrbitL
 def orbit_exponents(lin: OrbitLinearization, method: str = "magnus", harmonics: int | None = None):
     """Floquet exponents (FloquetExponents, 2r of them, over the orbit period) of an orbit.
 
-    method: "magnus" (4th-order Magnus, max(128, 4p) steps), "monodromy" (DOP853
-    reference), "hill" (Hill's method, dense or sparse by size), "dense", "sparse" (Hill);
+    method: a stability method of :mod:`periodyn.stability.methods`: "magnus" (4th-order
+    Magnus, max(128, 4p) steps), "monodromy" (DOP853 reference), "hill" (Hill's method,
+    dense or sparse by estimated cost), "dense", "sparse", "auto", or a registered one;
     harmonics: Hill harmonics (default half of what the p samples resolve, at least 4).
     """
     rheo = lin.rheo
-    if method not in STABILITY_METHODS:
-        raise InputError(f"stability method must be one of {STABILITY_METHODS}, got {method!r}")
+    entry = method_named(method)
     if lin.r == 0:
         return FloquetExponents.from_multipliers(np.zeros(0), rheo.omega, method)
-    if method == "magnus":
-        return monodromy_exponents(rheo, "magnus", steps=max(128, 4 * rheo.samples))
-    if method == "monodromy":
-        return monodromy_exponents(rheo, "monodromy")
     S = rheo.spectra
     K = (S.mass.shape[0] - 1) // 2
-    return hill_exponents(S.mass, S.damping, S.stiffness, rheo.omega, harmonics or max(K // 2, 4),
-                          "auto" if method == "hill" else method)
+    op = spectra_operator(S.mass, S.damping, S.stiffness, rheo.omega, harmonics or max(K // 2, 4)) \
+        if entry.operator else None
+    return entry.exponents(rheo, op, steps=max(128, 4 * rheo.samples))

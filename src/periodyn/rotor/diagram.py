@@ -17,6 +17,8 @@ whirl is the dominant circle.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
@@ -116,7 +118,7 @@ def _subset(eq, speeds: np.ndarray, count: int):
             fallbacks += 1
             continue
         except ArpackError as exc:
-            raise ConvergenceError(f"subset eigenvalues failed at speed {w:.6g} rad/s ({exc}); use method='dense'"
+            raise ConvergenceError(f"subset eigenvalues failed at speed {w:.6g} rad/s ({exc}); use eigensolver='dense'"
                                    ) from None
         start = np.real(vecs[:, 0]) + np.imag(vecs[:, 0])
         lam[i] = 1.0 / mu
@@ -133,9 +135,9 @@ def _stiffness_lu(K, speed: float):
     try:
         return splu(K)
     except RuntimeError:   # exactly singular
-        raise InputError(f"method='subset' needs a non-singular stiffness matrix, but it is singular at speed "
+        raise InputError(f"eigensolver='subset' needs a non-singular stiffness matrix, but it is singular at speed "
                          f"{speed:.6g} rad/s (an unsupported rotor: rigid-body modes at zero frequency); add "
-                         "bearings or use method='dense'") from None
+                         "bearings or use eigensolver='dense'") from None
 
 
 def _one_per_mode(lam):
@@ -169,19 +171,19 @@ def _stationary(lam, fwd, bwd, speeds, frame):
 
 
 def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = None, frame: str = "auto",
-             method: str = "auto") -> xr.Dataset:
+             eigensolver: str = "auto", method: str | None = None) -> xr.Dataset:
     """Eigenvalues of the rotor at spin speeds ``speeds`` (rad/s), converted to the
     stationary frame, the ``modes`` lowest by frequency (default all).
 
     frame: ``rotating`` solves the time-invariant co-rotating equations (as the paper),
     ``stationary`` the stationary-frame ones, ``auto`` the first where the rotor allows
-    (anisotropic bearings need the stationary frame). method: ``dense`` (all
+    (anisotropic bearings need the stationary frame). eigensolver: ``dense`` (all
     eigenvalues, batched LAPACK), ``subset`` (the 2 modes + 8 eigenvalues nearest the
     origin by sparse ARPACK, in the stationary frame: cost grows about linearly with the
     model; a mode far more damped than it vibrates may be passed over), ``auto``
     (dense up to 120 coordinates or when the rotating frame is asked for). An
     :class:`ElementRotor` (an element model's co-rotating equations) has only the
-    rotating frame and the dense method. Returns a dataset with dims
+    rotating frame and the dense eigensolver (``method=``: its deprecated name). Returns a dataset with dims
     (speed, mode): ``eigenvalue`` (complex, 1/s, Im >= 0), ``frequency`` (rad/s),
     ``damping_ratio`` (-Re/|lambda|), ``whirl`` ("forward"/"backward"); coordinate
     ``speed_rpm``; ``max_real_eigenvalue`` (speed,) over all modes found. A rigid-body
@@ -195,32 +197,36 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
         raise InputError(f"campbell takes a compiled rotor (Rotor(...).compile(), periodyn.examples.rotor() or an "
                          f"ElementRotor), got {type(model).__name__}")
     speeds = _speeds(speeds)
-    if method not in ("auto", "dense", "subset"):
-        raise InputError(f"method must be 'auto', 'dense' or 'subset', got {method!r}")
+    if method is not None:
+        warnings.warn("campbell(method=...) is deprecated and goes in the next release; pass eigensolver="
+                      f"{method!r}", DeprecationWarning, stacklevel=2)
+        eigensolver = method
+    if eigensolver not in ("auto", "dense", "subset"):
+        raise InputError(f"eigensolver must be 'auto', 'dense' or 'subset', got {eigensolver!r}")
     n = model.n
     modes = n if modes is None else int(modes)
     if not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
     if "stationary" not in model.frames:       # coordinates that turn with the shaft
         frame = "rotating" if frame == "auto" else frame
-    if method == "auto":
-        method = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 or frame == "rotating" else "subset"
+    if eigensolver == "auto":
+        eigensolver = "dense" if n <= 120 or 2 * modes + 8 >= 2 * n - 1 or frame == "rotating" else "subset"
     if frame == "auto":
-        frame = "rotating" if model.isotropic and method == "dense" else "stationary"
+        frame = "rotating" if model.isotropic and eigensolver == "dense" else "stationary"
     eq = model.equations(frame)
-    if method == "subset":
+    if eigensolver == "subset":
         if frame != "stationary":
-            raise InputError("method='subset' works in the stationary frame; use frame='stationary' or 'auto'"
+            raise InputError("eigensolver='subset' works in the stationary frame; use frame='stationary' or 'auto'"
                              if "stationary" in model.frames else
-                             f"method='subset' works in the stationary frame, which rotor '{model.name}' has not "
-                             "(its coordinates turn with the shaft); use method='dense'")
+                             f"eigensolver='subset' works in the stationary frame, which rotor '{model.name}' has not "
+                             "(its coordinates turn with the shaft); use eigensolver='dense'")
         lam, fwd, bwd, fallbacks = _subset(eq, speeds, min(2 * modes + 8, 2 * n - 2))
     else:
         (lam, fwd, bwd), fallbacks = _eigen(eq, speeds), 0
     values, forward = _stationary(lam, fwd, bwd, speeds, frame)
     if values.shape[1] < modes:
         raise ConvergenceError(f"only {values.shape[1]} vibrating modes found among the eigenvalues nearest the "
-                               f"origin, {modes} asked; use method='dense' or fewer modes")
+                               f"origin, {modes} asked; use eigensolver='dense' or fewer modes")
     growth = values.real.max(axis=1)            # over every mode found, kept or not
     values, forward = values[:, :modes], forward[:, :modes]
     damping_ratio = np.divide(-values.real, np.abs(values), out=np.full(values.shape, np.nan), where=values != 0)
@@ -232,7 +238,7 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
          "max_real_eigenvalue": ("speed", growth, {"units": "1/s", "long_name": "largest real part of all modes"})},
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(modes),
                 "speed_rpm": ("speed", speeds * 30.0 / np.pi, {"units": "rpm"})},
-        attrs={"frame": frame, "method": method, "rotor": model.name, "dense_fallback_speeds": fallbacks})
+        attrs={"frame": frame, "method": eigensolver, "rotor": model.name, "dense_fallback_speeds": fallbacks})
     ds.attrs["threshold_speed"] = stability_threshold(ds)
     return ds
 

@@ -1,9 +1,9 @@
 """Stability boundaries along a speed range: where the largest real part of the
 characteristic exponents crosses zero, refined by bisection, with the crossing type.
 
-Types (Floquet multiplier leaving the unit circle): "fold" (multiplier through +1; the
-paper's transcritical type, a resonance peak grows unbounded), "period-doubling"
-(through -1, exponent i*omega/2), "neimark-sacker" (a complex pair).
+Types (Floquet multiplier leaving the unit circle, :mod:`periodyn.stability.crossings`):
+"fold" (multiplier through +1; the paper's transcritical type, a resonance peak grows
+unbounded), "period-doubling" (through -1, exponent i*omega/2), "neimark-sacker" (a complex pair).
 """
 
 from __future__ import annotations
@@ -15,8 +15,10 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError
-from .hill import FloquetExponents, characteristic_exponents
 from ..system import RheoLinear
+from .crossings import classify_crossing
+from .floquet import FloquetExponents
+from .methods import characteristic_exponents, check_method
 
 __all__ = ["StabilityBoundary", "BoundaryCheck", "stability_boundaries", "crossing_type", "check_boundary"]
 
@@ -32,14 +34,10 @@ class StabilityBoundary:
 
 
 def crossing_type(exps: FloquetExponents, tol: float = 1e-3) -> str:
-    """Type of the critical exponent (largest real part) from its multiplier's angle."""
+    """Type of the critical exponent (largest real part) from its multiplier's angle: a
+    multiplier within tol pi of the real axis is real (:func:`periodyn.stability.crossings.classify_crossing`)."""
     mu = exps.multipliers[np.argmax(exps.exponents.real)]
-    angle = abs(np.angle(mu))
-    if angle < tol * np.pi:
-        return "fold"
-    if angle > (1 - tol) * np.pi:
-        return "period-doubling"
-    return "neimark-sacker"
+    return classify_crossing(mu, tol=np.sin(tol * np.pi))
 
 
 def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.ndarray, harmonics: int,
@@ -47,8 +45,10 @@ def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.nda
     """Boundaries within a speed grid: each sign change of max Re(lambda) between grid
     neighbours is refined by Brent's method to ``xtol`` (relative to omega).
 
-    system_at: omega -> RheoLinear (e.g. ``model.at``); omega: increasing grid, rad/s.
+    system_at: omega -> RheoLinear (e.g. ``model.at``); omega: increasing grid, rad/s;
+    method: a stability method of :mod:`periodyn.stability.methods`.
     """
+    method = check_method(method)
     omega = np.asarray(omega, dtype=float)
     if omega.ndim != 1 or omega.size < 2 or np.any(np.diff(omega) <= 0):
         raise InputError("omega must be an increasing 1-D grid of at least two speeds (rad/s)")

@@ -24,11 +24,11 @@ import numpy as np
 from ..errors import InputError
 from .floquet import STABILITY_TOL
 from ..kernels.solvers import magnus_ladder as kernel
-from ..kernels.solvers.floquet import magnus_product
+from ..kernels.solvers.floquet import magnus_monodromies, magnus_product
 from ..numerics.spectra import StackedSpectra
 
 __all__ = ["gauss_angles", "magnus_terms", "magnus_transition", "magnus_steps", "monodromy_exponent_array",
-           "half_period_signs", "MagnusEstimate", "MagnusLadder"]
+           "half_period_signs", "MagnusEstimate", "MagnusLadder", "sweep_terms", "sweep_exponents"]
 
 
 def magnus_steps(samples: int) -> int:
@@ -86,6 +86,30 @@ def monodromy_exponent_array(Phi: np.ndarray, omegas: np.ndarray) -> np.ndarray:
     return np.take_along_axis(lam, np.lexsort((lam.imag, lam.real), axis=-1), -1)
 
 
+def sweep_terms(model) -> np.ndarray:
+    """Magnus system-matrix terms (P, 2 g, 2n, 2n) of an OmegaSplitModel at the Gauss
+    angles of :func:`magnus_steps` (built once per model for the stability method "magnus")."""
+    theta = gauss_angles(magnus_steps(model.samples))
+    return magnus_terms(*StackedSpectra(*model._power_spectra[:3]).at(theta))[0]
+
+
+def sweep_exponents(terms: np.ndarray, w: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Magnus monodromy exponents (S, 2n) at speeds w (S,) rad/s from :func:`sweep_terms`
+    (one kernel call) and the reason per speed (S,) where they are not determined (NaN)."""
+    exps = np.full((w.size, 2 * n), np.nan + 0j)
+    message = np.full(w.size, "", dtype=object)
+    Phi = np.empty((w.size, 2 * n, 2 * n))
+    magnus_monodromies(terms, w, Phi)
+    finite = np.isfinite(Phi).all(axis=(1, 2))
+    exps[finite] = monodromy_exponent_array(Phi[finite], w[finite])
+    for i in np.nonzero(~finite)[0]:
+        message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is not finite; use "
+                      "method='monodromy' (adaptive steps) or check the model's coefficients")
+    for i in np.nonzero(finite & np.isnan(exps).any(axis=1))[0]:
+        message[i] = (f"the Magnus monodromy matrix at omega = {w[i]:.6g} rad/s is singular: a mode decays "
+                      "by more than 1e-308 in one period, so its exponent is not determined; use Hill's "
+                      "method (method='dense' or 'sparse') or check the model's damping")
+    return exps, message
 
 
 def half_period_signs(*spectra: np.ndarray, rtol: float = 1e-12) -> np.ndarray | None:

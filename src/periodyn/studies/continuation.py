@@ -120,7 +120,7 @@ class StudySpec(FileSpec):
 def parse_continuation(check: Checker, table, *, source, name, text, description, example, builder,
                        parameters) -> StudySpec:
     """Validate a [continuation] table (``check`` names the file)."""
-    from ..nonlinear.orbit_linearization import STABILITY_METHODS
+    from ..stability.methods import names
 
     c = check.table(table, "[continuation]")
     check.keys(c, "[continuation]", _KEYS, ("omega", "harmonics"))
@@ -154,8 +154,9 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
     stability = c.get("stability", "magnus")
     if stability is False:
         options["stability"] = None
-    elif not isinstance(stability, str) or stability not in STABILITY_METHODS:
-        check.fail("[continuation] stability", f"must be one of {', '.join(STABILITY_METHODS)} or false, "
+    elif not isinstance(stability, str) or stability not in names():
+        choices = ("magnus", *(name for name in names() if name != "magnus"))  # the default first
+        check.fail("[continuation] stability", f"must be one of {', '.join(choices)} or false, "
                                                f"got {stability!r}")
     else:
         options["stability"] = stability

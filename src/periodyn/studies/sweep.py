@@ -8,8 +8,8 @@ Format (``[model]`` and ``description`` as in :mod:`periodyn.studies.spec`)::
     # or   { values = [0.1, 0.2], unit = "rad/s" }
     harmonics = 12
     samples = 64                  # optional: samples per period (default: the builder's)
-    stability = true              # optional, default true
-    method = "auto"               # optional: auto | sparse | dense | monodromy | magnus
+    stability = true              # optional: true (= "auto"), false, or a stability method:
+                                  # auto | hill | sparse | dense | monodromy | magnus
     boundaries = true             # optional: refine the stability boundaries (1-D sweeps)
     output_units = { phi = "rad" }  # optional: unit of each output in the results
 
@@ -30,6 +30,7 @@ from __future__ import annotations
 import difflib
 import functools
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,7 +41,7 @@ from . import cache
 from .checks import FIXED_UNITS, MAX_POINTS, Checker, FileSpec, builder_parameters, parameter_check
 from ..engine.job import reference_frequencies
 from ..errors import InputError
-from ..stability.hill import METHODS
+from ..stability.methods import names
 
 __all__ = ["SweepSpec", "SweepPlan", "parse_sweep_table", "run_sweep", "MAX_HARMONICS"]
 
@@ -172,12 +173,7 @@ def parse_sweep_table(check: Checker, table, *, source, name, text, description,
     if samples is not None and samples < 2 * harmonics + 1:
         check.fail("[sweep] samples", f"{samples} samples cannot resolve {harmonics} harmonics; "
                                       f"use samples >= {2 * harmonics + 1} (>= {4 * harmonics + 1} recommended)")
-    stability = check.boolean(sweep.get("stability", True), "[sweep] stability")
-    method = check.string(sweep.get("method", "auto"), "[sweep] method")
-    if method not in METHODS:
-        near = difflib.get_close_matches(method, METHODS, n=1, cutoff=0.6)
-        check.fail("[sweep] method", f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
-                   + f"choose one of: {', '.join(METHODS)}")
+    stability, method = _stability(check, sweep)
 
     grid_table = check.table(sweep.get("grid", {}), "[sweep.grid]")
     if grid_table and not settable:
@@ -195,6 +191,34 @@ def parse_sweep_table(check: Checker, table, *, source, name, text, description,
                                          "alone (no [sweep.grid])")
     return SweepSpec(source, name, text, description, example, builder, parameters, omega_spec, unit,
                      harmonics, samples, stability, method, grid, output_units, boundaries)
+
+
+def _stability(check: Checker, sweep: dict) -> tuple[bool, str]:
+    """(stability on, method) from ``stability = true | false | "<method>"`` and the old
+    ``method = "<method>"`` key (still read, with a DeprecationWarning)."""
+    stability = sweep.get("stability", True)
+    if isinstance(stability, str):
+        _known_method(check, stability, "[sweep] stability", "must be true or false or a stability method, ")
+        if "method" in sweep:
+            check.fail("[sweep] method", f"give the stability method once: stability = \"{stability}\" (method is "
+                                         "its old name)")
+        return True, stability
+    stability = check.boolean(stability, "[sweep] stability")
+    if "method" not in sweep:
+        return stability, "auto"
+    method = _known_method(check, check.string(sweep["method"], "[sweep] method"), "[sweep] method")
+    warnings.warn(f"{check.source}: [sweep] method = \"{method}\" is the old name of stability = \"{method}\" "
+                  "(stability = false keeps it off); the old key goes in the next release", DeprecationWarning,
+                  stacklevel=3)
+    return stability, method
+
+
+def _known_method(check: Checker, method: str, where: str, lead: str = "") -> str:
+    if method not in names():
+        near = difflib.get_close_matches(method, names(), n=1, cutoff=0.6)
+        check.fail(where, lead + f"unknown method '{method}'; " + (f"did you mean '{near[0]}'? " if near else "")
+                   + f"choose one of: {', '.join(names())}")
+    return method
 
 
 def run_sweep(spec: SweepSpec, out, *, omega=None, resume: bool = False, workers: int | str = 1, scheduler=None,

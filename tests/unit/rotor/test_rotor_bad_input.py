@@ -52,7 +52,7 @@ def test_subset_solver_at_rest_of_an_undamped_rotor_falls_back_to_dense():
     np.testing.assert_allclose(subset.eigenvalue.values, dense.eigenvalue.values, rtol=1e-8, atol=1e-6)
     assert (subset.whirl.values[1] == dense.whirl.values[1]).all()
     free = _undamped(elements=9, bearings=False).compile()
-    with pytest.raises(InputError, match="non-singular stiffness.*unsupported rotor.*add bearings or use method='dense'"):
+    with pytest.raises(InputError, match="non-singular stiffness.*unsupported rotor.*add bearings or use eigensolver='dense'"):
         campbell(free, [10.0], modes=2, method="subset")
 
 
@@ -74,7 +74,7 @@ def test_spatial_rotor_refuses_bad_input_with_the_fix():
     element = spatial_rotor(_undamped())
     with pytest.raises(InputError, match="only frame='rotating' exists"):
         campbell(element, [10.0], frame="stationary")
-    with pytest.raises(InputError, match="use method='dense'"):
+    with pytest.raises(InputError, match="use eigensolver='dense'"):
         campbell(element, [10.0], method="subset")
 
 

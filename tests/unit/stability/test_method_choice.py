@@ -7,7 +7,7 @@ from periodyn.speeds import SpeedSolver
 from periodyn.examples.chain import parametric_chain
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
 from periodyn.harmonic import HarmonicOperator
-from periodyn.stability.hill import choose_method, hill_cost, hill_costs_many, operator_exponents
+from periodyn.stability.methods import choose_method, hill_cost, hill_costs_many, operator_exponents
 from periodyn.model.linearization import omega_split
 
 

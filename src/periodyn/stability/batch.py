@@ -1,0 +1,118 @@
+"""One stability method over chunks of speeds of a constant-speed model: the batch side of
+the registry (:mod:`periodyn.stability.methods`), used by :class:`periodyn.speeds.SpeedSolver`.
+
+Per chunk of speeds w (S,) rad/s, the method's ``choose`` (if any) names the method of each
+speed and may solve some itself ("auto": the Magnus ladder); every remaining group of
+speeds goes to its method's ``batch`` (stacked dense Hill, the Magnus kernel) or, without
+one, speed by speed through its scalar entry point. A speed that fails keeps NaN
+exponents and a message, never a result.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ConvergenceError
+from ..harmonic.batch_balance import DENSE_TERMS_BYTES
+from ..harmonic.operator import HarmonicOperator
+from ..system import OmegaSplitModel
+from .hill import dense_exponents_batch
+from .methods import StabilityMethod, hill_costs_many, method_named
+
+__all__ = ["SpeedStability"]
+
+_EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier exp(lambda T) is finite
+
+
+class SpeedStability:
+    """Per-model data of one stability method for many speeds.
+
+    model: the OmegaSplitModel; harmonic: its omega-polynomial Hill operator; method: a
+    registered name. :meth:`prepared` gives what a method's ``prepare`` builds once per
+    model (on first use); ``dense_hill``: stacked dense Hill evaluates
+    the precomputed real first-order Hill terms (PW, 2N, 2N) while they fit in
+    DENSE_TERMS_BYTES (a larger model builds its dense Hill matrix speed by speed; the terms
+    of the 32-element slider-crank at m = 32: 2.8 GB).
+    """
+
+    def __init__(self, model: OmegaSplitModel, harmonic: HarmonicOperator, method: str):
+        self.model, self.harmonic = model, harmonic
+        self.method = method_named(method)
+        self.m, self.n = harmonic.m, model.n
+        used = [method_named(name) for name in (self.method.name, *self.method.delegates)]
+        self._prepared = {}
+        self.dense_hill = (any(entry.name == "dense" for entry in used)
+                           and 8.0 * len(harmonic.W) * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
+
+    def prepared(self, name: str):
+        """What method ``name``'s ``prepare`` builds for the model (once, on first use)."""
+        if name not in self._prepared:
+            self._prepared[name] = method_named(name).prepare(self.model)
+        return self._prepared[name]
+
+    def hill_choices(self, w: np.ndarray) -> list[tuple[str, str, float]]:
+        """Hill method at each speed, why, and its estimated seconds: a method that hands
+        speeds to Hill chooses per speed by estimated cost
+        (:func:`periodyn.stability.methods.hill_costs_many`); any other is "requested"."""
+        if not self.method.delegates:
+            return [(self.method.name, "requested", np.inf)] * w.size
+        return [(m, r, c) for m, c, r in hill_costs_many(self.harmonic, w)]
+
+    def choose(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Method names (S,), reasons (S,), exponents (S, 2n) and whether they are solved
+        already (S,) at speeds w."""
+        if self.method.choose is not None:
+            return self.method.choose(self, w)
+        return (np.full(w.size, self.method.name, dtype=object), np.full(w.size, "requested", dtype=object),
+                np.full((w.size, 2 * self.n), np.nan + 0j), np.zeros(w.size, dtype=bool))
+
+    def costs(self, w: np.ndarray, base: float) -> np.ndarray:
+        """Estimated seconds (S,) of each speed whose harmonic balance costs ``base`` s."""
+        if self.method.sweep_cost is None:
+            return np.full(w.size, base)
+        return self.method.sweep_cost(self, w, base)
+
+    def solve(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
+        (S,) at speeds w."""
+        names, _, exps, solved = self.choose(w)
+        message = np.full(w.size, "", dtype=object)
+        for name in dict.fromkeys(names[~solved]):
+            group = np.nonzero((names == name) & ~solved)[0]
+            exps[group], message[group] = self._group(method_named(name), w[group])
+        # the multiplier exp(lambda T) must be a number: Re(lambda) T above the double range is no exponent
+        growth = exps.real.max(axis=1) * (2 * np.pi / w)
+        for i in np.nonzero((message == "") & (growth > _EXP_MAX))[0]:
+            exps[i] = np.nan
+            message[i] = (f"an exponent at omega = {w[i]:.6g} rad/s has Re(lambda) T = {growth[i]:.3g}, beyond the "
+                          "range of the multiplier exp(lambda T): the model's coefficients are out of the range the "
+                          "solver resolves (rescale it or add harmonics)")
+        return exps, message, names
+
+    def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return entry.batch(self, w) if entry.batch is not None else self.one_by_one(entry, w)
+
+    def one_by_one(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Exponents (S, 2n) and messages (S,) speed by speed through the scalar entry point."""
+        exps = np.full((w.size, 2 * self.n), np.nan + 0j)
+        message = np.full(w.size, "", dtype=object)
+        for i in range(w.size):
+            try:
+                exps[i] = entry.exponents(self.model.at(w[i]) if entry.system else None,
+                                          self.harmonic.at(w[i]) if entry.operator else None).exponents
+            except ConvergenceError as exc:
+                message[i] = str(exc) or type(exc).__name__
+        return exps, message
+
+    def dense_batch(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Dense Hill at speeds w: one stacked LAPACK call where the terms fit (``dense_hill``)."""
+        if not self.dense_hill:
+            return self.one_by_one(method_named("dense"), w)
+        m, n = self.m, self.n
+        exps, _, found = dense_exponents_batch(self.harmonic.real_first_order_many(w), w, m, n)
+        message = np.full(w.size, "", dtype=object)
+        for i in np.nonzero(found < 2 * n)[0]:
+            exps[i] = np.nan
+            message[i] = (f"Hill's method with m = {m} resolved {found[i]} of {2 * n} exponent "
+                          f"clusters at omega = {w[i]:.6g} rad/s; increase harmonics")
+        return exps, message
