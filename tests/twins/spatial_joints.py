@@ -44,6 +44,19 @@ def truss_twin(xe, l0):
     return l - l0, P.T @ d1, P.T @ d2 @ P, np.einsum("abc,ai,bj,ck->ijk", d3, P, P, P)
 
 
+def truss_inertia_twin(ae, rho_a_l0, gravity):
+    """Mass matrix (2 dim, 2 dim) and ``M ae - f_gravity`` (2 dim,) of a uniform bar of mass
+    rho_a_l0 (kg) with linearly interpolated position, by 2-point Gauss quadrature of
+    int N_i N_j ds and int N_i ds in dim = len(gravity) dimensions."""
+    dim = len(gravity)
+    s = 0.5 + np.array([-0.5, 0.5]) / np.sqrt(3.0)
+    N = np.stack([1 - s, s])  # (node, Gauss point)
+    mass = rho_a_l0 * 0.5 * N @ N.T
+    weights = rho_a_l0 * 0.5 * N.sum(axis=1)
+    M = np.kron(mass, np.eye(dim))
+    return M, M @ ae - np.kron(weights, gravity)
+
+
 def hinge_modes_twin(xe, par):
     """(rotation, misalignment_2, misalignment_3) of the hinge; complex inputs allowed
     (the rotation as 4 atan(r1 / (|(r0, r1)| + r0)), equal to 2 atan2(r1, r0))."""

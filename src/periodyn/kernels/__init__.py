@@ -2,6 +2,22 @@
 
 Convention: ``@njit(cache=True)``; float64/complex128 arrays and int loop bounds only, no
 Python objects; outputs are caller-allocated ``out`` arrays where a kernel fills a block.
-One module per family: ``harmonic`` (Fourier-series evaluation), element families in
-their own modules. Every kernel has a plain-NumPy twin in the tests.
+One module per family: ``elements/`` (one module per element family and the geometry they
+share), ``mechanism/`` (constraints, transfer function, assembly, the omega split),
+``solvers/`` (banded, Floquet, Magnus, harmonic, implicit, ODE flows). Every kernel has a
+plain-NumPy twin in the tests.
+
+Adding an element family (``tests/unit/kernels/test_element_families.py`` checks steps 1-5):
+
+1. ``elements/<family>.py``: ``deformation(xe, par, D, Dx, Dxx, Dxxx)`` and, if the
+   element has inertia, ``inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)``, under the
+   conventions of :mod:`.elements.layout` (which also documents the argument shapes).
+2. ``elements/layout.py``: a new id ``FAMILY_<NAME>``.
+3. ``mechanism/constraint_system.py``: one branch of ``deformation`` (the modes) and, with
+   inertia, ``mechanism/assembly.py``: one branch of ``element_arrays``.
+4. ``periodyn/model/``: the element's data class with ``family = FAMILY_<NAME>`` and its
+   parameter rows (``par``, ``ipar``, nodes, modes), re-exported by ``periodyn.model``.
+5. ``tests/twins/``: a plain-NumPy twin of each kernel, and a test in ``tests/unit/kernels/``
+   that calls ``<family>.deformation`` (and ``<family>.inertia``) against it (~1e-13) and
+   against finite differences of every derivative order.
 """

@@ -6,7 +6,7 @@ import numpy as np
 
 from periodyn.kernels.elements import rigid_body, rotation, spatial_joints, spatial_truss
 from tests.twins.spatial_joints import (complex_step, conj_twin, g_twin, hinge_modes_twin, link_modes_twin,
-                                        quat_twin, rigid_body_twin, rotation_twin, truss_twin)
+                                        quat_twin, rigid_body_twin, rotation_twin, truss_inertia_twin, truss_twin)
 
 RNG = np.random.default_rng(11)
 
@@ -73,6 +73,21 @@ def test_spatial_truss_matches_twin():
     got = _check_orders(spatial_truss.deformation, xe, np.array([0.7]), 1)
     for g, t in zip(got, truss_twin(xe, 0.7)):
         np.testing.assert_allclose(g[0], t, atol=1e-13 * max(1, np.abs(t).max()))
+
+
+def test_spatial_truss_inertia_matches_twin():
+    """The bar's consistent mass in 3-D: M = kron(mass, I3), r = M a - weights g, no C, K."""
+    rho_a_l0, gravity = 1.7, np.array([0.3, -9.81, 0.5])
+    s = 0.5 + np.array([-0.5, 0.5]) / np.sqrt(3.0)
+    ipar = np.r_[(1.7 * 0.5 * np.stack([1 - s, s]) @ np.stack([1 - s, s]).T).ravel(), 0.85, 0.85]
+    xe, ve, ae = RNG.standard_normal((3, 6))
+    M, r, C, K = np.zeros((6, 6)), np.zeros(6), np.zeros((6, 6)), np.zeros((6, 6))
+    spatial_truss.inertia(xe, ve, ae, ipar, gravity, M, r, C, K)
+    M_twin, r_twin = truss_inertia_twin(ae, rho_a_l0, gravity)
+    np.testing.assert_allclose(M, M_twin, atol=1e-14)
+    np.testing.assert_allclose(r, r_twin, atol=1e-13)
+    np.testing.assert_allclose(M[:3, :3], 1.7 / 3 * np.eye(3), atol=1e-14)  # the textbook rho A l / 3
+    assert not C.any() and not K.any()
 
 
 def _hinge_state():
