@@ -97,15 +97,33 @@ def _join_complex(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
+def _checksummed(ds: xr.Dataset) -> dict:
+    """netCDF encoding that stores every array variable chunked with a Fletcher-32 checksum
+    (strings as fixed-width characters, so that they are checksummed too): a flipped byte
+    in the data becomes a read error rather than a wrong number."""
+    encoding = {}
+    for name, var in ds.variables.items():
+        if var.ndim and var.size:
+            encoding[name] = {"fletcher32": True, **({"dtype": "S1"} if var.dtype.kind in "UOS" else {})}
+    return encoding
+
+
 def save(ds: xr.Dataset, path) -> Path:
-    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf) atomically: the file
-    is written beside the target and renamed, so a crash never leaves half a file."""
+    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
+    Fletcher-32 checksum) atomically: the file is written beside the target and renamed,
+    so a crash never leaves half a file. An OS error (no space, no permission) is an
+    InputError naming the path and the fix."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f"{path.name}.{os.getpid()}.partial")
     try:
-        _split_complex(ds).to_netcdf(tmp, engine=_ENGINE)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        split = _split_complex(ds)
+        split.to_netcdf(tmp, engine=_ENGINE, encoding=_checksummed(split))
         os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise InputError(f"cannot write the result file {path} ({exc.strerror or exc}); free space on its disk, make "
+                         "its folder writable, or give another --out (out=) file") from None
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -113,15 +131,17 @@ def save(ds: xr.Dataset, path) -> Path:
 
 
 def load(path) -> xr.Dataset:
-    """Read a sweep result file written by :func:`save` (complex variables restored)."""
+    """Read a sweep result file written by :func:`save` (complex variables restored); a
+    damaged file (checksum mismatch, broken structure) is an InputError naming it."""
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no result file at {path}; run the sweep first (periodyn sweep ... --out {path})")
     try:
         with xr.open_dataset(path, engine=_ENGINE) as raw:
             ds = raw.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path} is not a readable periodyn result file ({exc})") from None
+    except (OSError, ValueError, KeyError, RuntimeError, TypeError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path} is not a readable periodyn result file, or it is damaged ({type(exc).__name__}: "
+                         f"{exc}); delete it and run the sweep again (without --resume)") from None
     return _join_complex(ds)
 
 

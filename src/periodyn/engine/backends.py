@@ -9,6 +9,8 @@ before they import numpy; Dask workers started by ``scheduler="local"`` too; on 
 existing cluster the threads are limited when a worker receives its first chunk), and
 the serial path limits the caller's process to one thread while it solves, so serial,
 parallel and distributed results agree bit for bit. The job reaches each worker once.
+Local workers ignore Ctrl-C: the sweep's process stops between chunks
+(:mod:`periodyn.engine.session`) and shuts them down.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ def _exit_with_parent() -> None:
 def _init_worker(payload: bytes) -> None:
     global _WORKER_JOB
     _exit_with_parent()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the sweep's process decides
     limit_threads()
     _WORKER_JOB = cloudpickle.loads(payload)
 
