@@ -211,12 +211,36 @@ def _start_server_early() -> None:
         return
     from multiprocessing import forkserver
 
-    with worker_environment():
-        forkserver.ensure_running()
+    _ensure_server()
     _SERVER_SINCE.append(time.perf_counter())
     pid = getattr(forkserver._forkserver, "_forkserver_pid", None)
     if pid is not None:
         atexit.register(_stop_unused_server, pid)
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Processes started inside inherit SIGINT ignored: Ctrl-C reaches the whole process
+    group, and a helper process hit while it imports would print a traceback; the sweep's
+    process decides (:mod:`periodyn.engine.session`). Only the main thread sets signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
+
+
+def _ensure_server() -> None:
+    """Start the fork server (and the resource tracker) from this thread, with one thread
+    per process and SIGINT ignored, where workers are forked from one."""
+    if _process_context().get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+
+        with worker_environment(), _sigint_ignored():
+            forkserver.ensure_running()
 
 
 def _stop_unused_server(pid: int) -> None:
@@ -281,6 +305,7 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
+    _ensure_server()  # here, not in the pool's thread, which cannot set signals
     pool = _Pool(job, chunks[:-2], workers - 1)
     try:
         with one_thread():
