@@ -234,29 +234,37 @@ description = "sweep that the test interrupts"
 [model]
 example = "pendulum"
 [sweep]
-omega = { start = 0.05, stop = 1.4, num = 3000, unit = "omega0" }
+omega = { start = 0.05, stop = 1.4, num = 100000, unit = "omega0" }
 harmonics = 10
 samples = 48
-stability = "dense"
 """
 
 
-@pytest.mark.parametrize("workers, delay", [(1, 0.0), (1, 0.13), (1, 0.37), (2, 0.0), (2, 0.21)])
+def descendants(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    kids = [int(c) for c in path.read_text().split()] if path.exists() else []
+    return kids + [d for k in kids for d in descendants(k)]
+
+
+@pytest.mark.parametrize("workers, delay", [(1, 0.0), (1, 0.37), (2, 0.5), (2, 1.5)])
 def test_ctrl_c_exits_130_with_the_resume_hint(tmp_path, workers, delay):
     """SIGINT to the sweep's process group (what a terminal's Ctrl-C sends) at several
-    moments after the first checkpoint: exit 130, the message, no traceback, the chunks
-    kept, no worker left."""
+    moments once chunks are checkpointed (and the workers run compiled kernels): exit 130,
+    the message, no traceback (a worker hit inside a Numba kernel used to fail the sweep
+    with "SystemError ... returned a result with an exception set"), the chunks kept, no
+    process left."""
     (tmp_path / "i.toml").write_text(INTERRUPT_SWEEP)
     out = tmp_path / "i.nc"
     parts = tmp_path / "i.nc.parts"
     proc = subprocess.Popen([sys.executable, "-m", "periodyn.cli", "sweep", str(tmp_path / "i.toml"), "--out",
-                             str(out), "--workers", str(workers), "--chunk-size", "20", "--quiet"],
+                             str(out), "--workers", str(workers), "--chunk-size", "50", "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                             env={**os.environ, "PYTHONPATH": SRC})
     deadline = time.monotonic() + 120
-    while not list(parts.glob("chunk-*.npz")):
+    # with workers: the fork server, the resource tracker and a worker forked by the server
+    while len(list(parts.glob("chunk-*.npz"))) < 3 or len(descendants(proc.pid)) < (3 if workers > 1 else 0):
         assert proc.poll() is None, proc.stderr.read()
-        assert time.monotonic() < deadline, "the sweep wrote no checkpoint"
+        assert time.monotonic() < deadline, "the sweep wrote no checkpoint or started no worker"
         time.sleep(0.005)
     time.sleep(delay)
     os.killpg(proc.pid, signal.SIGINT)
@@ -272,3 +280,21 @@ def test_ctrl_c_exits_130_with_the_resume_hint(tmp_path, workers, delay):
             return
         time.sleep(0.05)
     pytest.fail("processes of the interrupted sweep are still running")
+
+
+def test_an_interrupt_inside_a_c_call_is_an_interrupt(monkeypatch, capsys):
+    """Ctrl-C landing inside a compiled function surfaces as a SystemError caused by the
+    KeyboardInterrupt: still exit 130 and the message, no traceback."""
+    import periodyn.cli as cli
+
+    def hit(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher(<function ladder_climb>) returned a result with an exception set") \
+                from exc
+
+    monkeypatch.setattr(cli, "_cmd_sweep", hit)
+    monkeypatch.setitem(cli._COMMANDS, "sweep", hit)
+    assert main(["sweep", "any.toml"]) == 130
+    assert capsys.readouterr().err == "periodyn sweep: interrupted; finished chunks are kept, continue with --resume\n"

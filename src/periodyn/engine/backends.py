@@ -178,17 +178,19 @@ class _Pool:
             raise self.error
         yield from as_completed(self.submitted)
 
-    def close(self) -> None:
+    def close(self, abandoned: bool = False) -> None:
+        """Shut the workers down; ``abandoned``: the sweep stopped taking chunks (Ctrl-C,
+        an error), so the chunks they are solving are not waited for."""
         with self.lock:
             self.back = self.front  # nothing more to submit
         self.thread.join()
         if self.pool is None:
             return
-        started = self.ready is not None and self.ready.done()
-        if not started:  # no chunk went to the workers: stop them rather than wait for their start
+        wait_for_them = self.ready is not None and self.ready.done() and not abandoned
+        if not wait_for_them:  # no chunk went to the workers, or none is wanted: stop them now
             for process in list((getattr(self.pool, "_processes", None) or {}).values()):
                 process.terminate()
-        self.pool.shutdown(wait=started, cancel_futures=True)
+        self.pool.shutdown(wait=wait_for_them, cancel_futures=True)
 
 
 #: Seconds that starting local workers costs this process: the wait until the first worker
@@ -307,6 +309,7 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
         return
     _ensure_server()  # here, not in the pool's thread, which cannot set signals
     pool = _Pool(job, chunks[:-2], workers - 1)
+    done = False
     try:
         with one_thread():
             while True:
@@ -318,10 +321,12 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
                 yield job.solve(chunk)
         for future in pool.remaining():
             yield future.result()
+        done = True
     finally:
         closing = time.perf_counter()
-        pool.close()
-        _record_start(pool, time.perf_counter() - closing)
+        pool.close(abandoned=not done)
+        if done:
+            _record_start(pool, time.perf_counter() - closing)
 
 
 def _dask_client(scheduler, workers: int):
