@@ -115,8 +115,8 @@ def hold_lock(out: Path) -> subprocess.Popen:
     """Another process holding the sweep lock on ``out`` (as a running sweep does)."""
     code = textwrap.dedent(f"""
         import sys, time
-        from periodyn.engine.session import session
-        with session({str(out)!r}):
+        from periodyn.engine.session import sweep_guard
+        with sweep_guard({str(out)!r}):
             print("held", flush=True)
             time.sleep(120)
         """)

@@ -37,7 +37,7 @@ from .warmup import COMPILE_NOTE, kernels_cached
 from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
-from .session import check_interrupt, session
+from .session import check_interrupt, sweep_guard
 from ..results import STATUS_SOLVED, load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
 
@@ -119,7 +119,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         raise InputError("resume=True needs out=<result file>: the checkpoints live in <out>.parts/")
     grid_names, grid_values = _check_grid(model, parameters)
     out = None if out is None else Path(out)
-    with session(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
+    with sweep_guard(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
         source = ModelSource(model, grid_names, grid_values, p)
         first = (0,) * len(grid_names)
         with np.errstate(all="ignore"):  # an overflowing model gives failed points, reported per point

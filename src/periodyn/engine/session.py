@@ -34,7 +34,7 @@ from typing import Iterator
 
 from ..errors import InputError
 
-__all__ = ["check_output", "session", "check_interrupt", "caused_by_interrupt", "lock_path"]
+__all__ = ["check_output", "sweep_guard", "check_interrupt", "caused_by_interrupt", "lock_path"]
 
 _HELD: dict[Path, int] = {}  # locks held by this process: resolved out -> nesting depth
 _INTERRUPT = {"installed": 0, "requested": False}
@@ -173,7 +173,7 @@ def _deferred_interrupts() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def session(out: Path | None) -> Iterator[None]:
+def sweep_guard(out: Path | None) -> Iterator[None]:
     """One sweep's run: ``out`` checked and locked (when given), Ctrl-C deferred to
     :func:`check_interrupt`. Re-entrant within a process."""
     with _deferred_interrupts():

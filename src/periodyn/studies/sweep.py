@@ -227,10 +227,10 @@ def run_sweep(spec: SweepSpec, out, *, omega=None, resume: bool = False, workers
     Dataset; with ``resume`` a current ``out`` is read and one made otherwise refused
     (:mod:`periodyn.studies.cache`)."""
     from ..engine import front
-    from ..engine.session import session
+    from ..engine.session import sweep_guard
     from ..results import load, save
 
-    with session(out):  # one lock on out from the check of a finished file to the last write
+    with sweep_guard(out):  # one lock on out from the check of a finished file to the last write
         if cache.finished(out, spec, omega, resume):
             return load(out)
         ds = front.sweep_file(spec, omega=omega, out=out, workers=workers, scheduler=scheduler, resume=resume,
