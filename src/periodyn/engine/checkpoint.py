@@ -97,7 +97,10 @@ class Checkpoint:
             return "carries no sweep fingerprint (written by an older periodyn or another program)"
         if str(chunk["_fingerprint"]) != self.fingerprint:
             return "belongs to another sweep (other model, speeds, harmonics, samples, stability or method)"
-        expected = self.coordinates(chunk["index"])
+        try:
+            expected = self.coordinates(chunk["index"])
+        except (ValueError, TypeError, IndexError):
+            return "holds point indices outside this sweep"
         for name, values in expected.items():
             stored = chunk.get(f"_at_{name}")
             if stored is None or stored.shape != values.shape or not np.array_equal(stored, values):
