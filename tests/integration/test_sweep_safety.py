@@ -211,6 +211,15 @@ def test_read_only_folder_is_refused_before_computing(project, capsys):
     assert "the folder ro of --out ro/r.nc is not writable" in capsys.readouterr().err
 
 
+def test_unwritable_folder_is_refused_before_computing(project, capsys, monkeypatch):
+    """(As root every folder is writable: the folder's answer to os.access stands in.)"""
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda path, mode: Path(path).name != "ro" and real(path, mode))
+    (project / "ro").mkdir()
+    assert main(["sweep", "tiny.toml", "--out", "ro/r.nc", "--workers", "1"]) == 2
+    assert "the folder ro of --out ro/r.nc is not writable; make it writable" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("where", ["chunk", "result"])
 def test_full_disk_exits_2_naming_the_path(tmp_path, monkeypatch, capsys, where):
     (tmp_path / "tiny.toml").write_text(TINY)
@@ -273,6 +282,7 @@ def test_ctrl_c_exits_130_with_the_resume_hint(tmp_path, workers, delay):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "interrupted; finished chunks are kept, continue with --resume" in err and "Traceback" not in err
+    assert "stopping after the current chunk" in err
     assert list(parts.glob("chunk-*.npz")) and not out.exists() and not lock_path(out).exists()
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:  # the workers (and a fork server) end with the sweep

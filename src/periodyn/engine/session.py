@@ -28,6 +28,7 @@ import json
 import os
 import signal
 import socket
+import sys
 import threading
 from pathlib import Path
 from typing import Iterator
@@ -135,6 +136,7 @@ def _on_sigint(signum, frame) -> None:
     if _INTERRUPT["requested"]:  # asked twice: stop now
         raise KeyboardInterrupt
     _INTERRUPT["requested"] = True
+    print("periodyn: stopping after the current chunk (Ctrl-C again stops at once)", file=sys.stderr, flush=True)
 
 
 def caused_by_interrupt(exc: BaseException | None) -> bool:
