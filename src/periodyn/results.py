@@ -55,6 +55,7 @@ _PART = "part"
 _COMPLEX_FLAG = "periodyn_complex"
 _ENGINE = "h5netcdf"
 _DIGEST = "periodyn_sha256"
+_CHUNK_BYTES = 1 << 20
 _VERSIONED = ("periodyn", "numpy", "scipy", "numba", "pyfftw", "xarray", "h5netcdf", "dask", "distributed")
 
 
@@ -105,8 +106,13 @@ def _checksummed(ds: xr.Dataset) -> dict:
     in the data becomes a read error rather than a wrong number."""
     encoding = {}
     for name, var in ds.variables.items():
-        if var.ndim and var.size:
-            encoding[name] = {"fletcher32": True, **({"dtype": "S1"} if var.dtype.kind in "UOS" else {})}
+        if not (var.ndim and var.size):
+            continue
+        if var.dtype.kind in "UOS":
+            encoding[name] = {"fletcher32": True, "dtype": "S1"}
+        else:  # chunks of whole rows, about 1 MiB (the automatic ones split rows into many small pieces)
+            rows = max(1, min(var.shape[0], _CHUNK_BYTES // (var.dtype.itemsize * (var.size // var.shape[0]))))
+            encoding[name] = {"fletcher32": True, "chunksizes": (rows, *var.shape[1:])}
     return encoding
 
 
