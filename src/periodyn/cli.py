@@ -1,7 +1,8 @@
 """Command line: ``periodyn sweep | figures | bench | warmup | info`` (see ``periodyn --help``).
 
-Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input (a message
-naming the problem, never a traceback), 130 interrupted (finished chunks are kept).
+Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input or an OS error
+(a message naming the problem, the path and the fix, never a traceback), 130 interrupted
+(finished chunks are kept).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import sys
 import time
 from pathlib import Path
 
+from .engine.session import caused_by_interrupt
 from .engine.threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores
 from .errors import ConvergenceError, InputError
 
@@ -136,10 +138,14 @@ def _summary(ds, out: Path, elapsed: float) -> list[str]:
 
 
 def _cmd_sweep(args) -> int:
+    from .engine.session import check_output
     from .studies.spec import load_sweep_file
 
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
+    check_output(out)  # before any computing
+    if args.plot:
+        check_output(args.plot, "--plot")
     description = " ".join(spec.description.split())
     title = f"{spec.name}: {description}" if description else spec.name
     kind = {"sweep": _cmd_speed_sweep, "continuation": _cmd_study, "transient": _cmd_transient,
@@ -362,10 +368,23 @@ def main(argv: list[str] | None = None) -> int:
     except ConvergenceError as exc:
         print(f"periodyn {args.command}: failed: {exc}", file=sys.stderr)
         return 1
+    except OSError as exc:
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"periodyn {args.command}: error: cannot use{where} ({exc.strerror or exc}); check that the path "
+              "exists, is writable and its disk has space, or give another path", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
-        hint = "; finished chunks are kept, continue with --resume" if args.command == "sweep" else ""
-        print(f"periodyn {args.command}: interrupted{hint}", file=sys.stderr)
-        return 130
+        return _interrupted(args.command)
+    except SystemError as exc:  # Ctrl-C that landed inside a C call
+        if not caused_by_interrupt(exc):
+            raise
+        return _interrupted(args.command)
+
+
+def _interrupted(command: str) -> int:
+    hint = "; finished chunks are kept, continue with --resume" if command == "sweep" else ""
+    print(f"periodyn {command}: interrupted{hint}", file=sys.stderr)
+    return 130
 
 
 if __name__ == "__main__":

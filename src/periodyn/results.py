@@ -34,6 +34,7 @@ Attributes carry the sweep options, the sweep file's text and the package versio
 from __future__ import annotations
 
 import functools
+import hashlib
 import json
 import os
 import platform
@@ -53,6 +54,8 @@ STATUS_FAILED = 1
 _PART = "part"
 _COMPLEX_FLAG = "periodyn_complex"
 _ENGINE = "h5netcdf"
+_DIGEST = "periodyn_sha256"
+_CHUNK_BYTES = 1 << 20
 _VERSIONED = ("periodyn", "numpy", "scipy", "numba", "pyfftw", "xarray", "h5netcdf", "dask", "distributed")
 
 
@@ -97,15 +100,62 @@ def _join_complex(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
+def _checksummed(ds: xr.Dataset) -> dict:
+    """netCDF encoding that stores every array variable chunked with a Fletcher-32 checksum
+    (strings as fixed-width characters, so that they are checksummed too): a flipped byte
+    in the data becomes a read error rather than a wrong number."""
+    encoding = {}
+    for name, var in ds.variables.items():
+        if not (var.ndim and var.size):
+            continue
+        if var.dtype.kind in "UOS":
+            encoding[name] = {"fletcher32": True, "dtype": "S1"}
+        else:  # chunks of whole rows, about 1 MiB (the automatic ones split rows into many small pieces)
+            rows = max(1, min(var.shape[0], _CHUNK_BYTES // (var.dtype.itemsize * (var.size // var.shape[0]))))
+            encoding[name] = {"fletcher32": True, "chunksizes": (rows, *var.shape[1:])}
+    return encoding
+
+
+def _digest(f) -> str:
+    """SHA-256 of every dataset (name, type, shape, stored values) of the open HDF5 file
+    ``f``: Fletcher-32 misses some damage (a run of inverted bytes that covers a chunk
+    and its checksum), this does not."""
+    import h5py
+
+    digest = hashlib.sha256()
+
+    def add(name, obj):
+        if isinstance(obj, h5py.Dataset):
+            values = obj[()]
+            digest.update(f"{name}|{obj.dtype.str}|{obj.shape}|".encode())
+            digest.update("\0".join(map(str, np.ravel(values))).encode() if obj.dtype.kind == "O"
+                          else np.ascontiguousarray(values).tobytes())
+
+    f.visititems(add)
+    return digest.hexdigest()
+
+
 def save(ds: xr.Dataset, path) -> Path:
-    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf) atomically: the file
-    is written beside the target and renamed, so a crash never leaves half a file."""
+    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
+    Fletcher-32 checksum and the file's contents with a SHA-256 digest, attribute
+    ``periodyn_sha256``) atomically: the file is written beside the target and renamed,
+    so a crash never leaves half a file. An OS error (no space, no permission) is an
+    InputError naming the path and the fix."""
+    import h5py
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f"{path.name}.{os.getpid()}.partial")
     try:
-        _split_complex(ds).to_netcdf(tmp, engine=_ENGINE)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        split = _split_complex(ds)
+        split.to_netcdf(tmp, engine=_ENGINE, encoding=_checksummed(split))
+        with h5py.File(tmp, "r+") as f:
+            f.attrs[_DIGEST] = _digest(f)
         os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise InputError(f"cannot write the result file {path} ({exc.strerror or exc}); free space on its disk, make "
+                         "its folder writable, or give another --out (out=) file") from None
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -113,15 +163,24 @@ def save(ds: xr.Dataset, path) -> Path:
 
 
 def load(path) -> xr.Dataset:
-    """Read a sweep result file written by :func:`save` (complex variables restored)."""
+    """Read a sweep result file written by :func:`save` (complex variables restored); a
+    damaged file (checksum mismatch, broken structure) is an InputError naming it."""
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no result file at {path}; run the sweep first (periodyn sweep ... --out {path})")
+    import h5py
+
     try:
+        with h5py.File(path, "r") as f:
+            stored = f.attrs.get(_DIGEST)
+            if stored is not None and (stored.decode() if isinstance(stored, bytes) else str(stored)) != _digest(f):
+                raise ValueError("its contents do not match the SHA-256 digest written with it")
         with xr.open_dataset(path, engine=_ENGINE) as raw:
             ds = raw.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path} is not a readable periodyn result file ({exc})") from None
+    except (OSError, ValueError, KeyError, RuntimeError, TypeError, IndexError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path} is not a readable periodyn result file, or it is damaged ({type(exc).__name__}: "
+                         f"{exc}); delete it and run the sweep again (without --resume)") from None
+    ds.attrs.pop(_DIGEST, None)
     return _join_complex(ds)
 
 

@@ -9,6 +9,8 @@ before they import numpy; Dask workers started by ``scheduler="local"`` too; on 
 existing cluster the threads are limited when a worker receives its first chunk), and
 the serial path limits the caller's process to one thread while it solves, so serial,
 parallel and distributed results agree bit for bit. The job reaches each worker once.
+Local workers ignore Ctrl-C: the sweep's process stops between chunks
+(:mod:`periodyn.engine.session`) and shuts them down.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ def _exit_with_parent() -> None:
 def _init_worker(payload: bytes) -> None:
     global _WORKER_JOB
     _exit_with_parent()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the sweep's process decides
     limit_threads()
     _WORKER_JOB = cloudpickle.loads(payload)
 
@@ -175,17 +178,19 @@ class _Pool:
             raise self.error
         yield from as_completed(self.submitted)
 
-    def close(self) -> None:
+    def close(self, abandoned: bool = False) -> None:
+        """Shut the workers down; ``abandoned``: the sweep stopped taking chunks (Ctrl-C,
+        an error), so the chunks they are solving are not waited for."""
         with self.lock:
             self.back = self.front  # nothing more to submit
         self.thread.join()
         if self.pool is None:
             return
-        started = self.ready is not None and self.ready.done()
-        if not started:  # no chunk went to the workers: stop them rather than wait for their start
+        wait_for_them = self.ready is not None and self.ready.done() and not abandoned
+        if not wait_for_them:  # no chunk went to the workers, or none is wanted: stop them now
             for process in list((getattr(self.pool, "_processes", None) or {}).values()):
                 process.terminate()
-        self.pool.shutdown(wait=started, cancel_futures=True)
+        self.pool.shutdown(wait=wait_for_them, cancel_futures=True)
 
 
 #: Seconds that starting local workers costs this process: the wait until the first worker
@@ -208,12 +213,36 @@ def _start_server_early() -> None:
         return
     from multiprocessing import forkserver
 
-    with worker_environment():
-        forkserver.ensure_running()
+    _ensure_server()
     _SERVER_SINCE.append(time.perf_counter())
     pid = getattr(forkserver._forkserver, "_forkserver_pid", None)
     if pid is not None:
         atexit.register(_stop_unused_server, pid)
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Processes started inside inherit SIGINT ignored: Ctrl-C reaches the whole process
+    group, and a helper process hit while it imports would print a traceback; the sweep's
+    process decides (:mod:`periodyn.engine.session`). Only the main thread sets signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
+
+
+def _ensure_server() -> None:
+    """Start the fork server (and the resource tracker) from this thread, with one thread
+    per process and SIGINT ignored, where workers are forked from one."""
+    if _process_context().get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+
+        with worker_environment(), _sigint_ignored():
+            forkserver.ensure_running()
 
 
 def _stop_unused_server(pid: int) -> None:
@@ -278,7 +307,9 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
+    _ensure_server()  # here, not in the pool's thread, which cannot set signals
     pool = _Pool(job, chunks[:-2], workers - 1)
+    done = False
     try:
         with one_thread():
             while True:
@@ -290,10 +321,12 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
                 yield job.solve(chunk)
         for future in pool.remaining():
             yield future.result()
+        done = True
     finally:
         closing = time.perf_counter()
-        pool.close()
-        _record_start(pool, time.perf_counter() - closing)
+        pool.close(abandoned=not done)
+        if done:
+            _record_start(pool, time.perf_counter() - closing)
 
 
 def _dask_client(scheduler, workers: int):

@@ -1,5 +1,7 @@
 """Checkpoints of a sweep writing ``out``: finished chunks in ``<out>.parts/`` until merged,
-and the fingerprint of the sweep settings that a resume must match."""
+and the fingerprint of the sweep settings that a resume must match. Each chunk carries
+that fingerprint and the coordinates (speed, grid parameters) of its points, so a chunk
+of another sweep, or one whose points lie elsewhere, is never merged."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ import hashlib
 import json
 import os
 import shutil
+import warnings
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,13 +31,18 @@ class Checkpoint:
 
     Each chunk is an .npz file written under a temporary name and renamed, so a killed
     process leaves either a whole chunk or none; ``manifest.json`` holds the fingerprint
-    of the sweep settings so a resume refuses parts of a different sweep.
+    of the sweep settings so a resume refuses parts of a different sweep, and each chunk
+    holds it too (``_fingerprint``) with its points' coordinates (``_at_<name>``, from
+    ``coordinates(indices)``): a chunk whose either differs is dropped with a warning and
+    its points recomputed.
     """
 
-    def __init__(self, out: Path, fingerprint: str, resume: bool):
+    def __init__(self, out: Path, fingerprint: str, resume: bool,
+                 coordinates: Callable[[np.ndarray], dict[str, np.ndarray]]):
         self.out = out
         self.parts = out.with_name(out.name + ".parts")
         self.fingerprint = fingerprint
+        self.coordinates = coordinates
         self.manifest = self.parts / "manifest.json"
         if self.manifest.exists():  # written before the first chunk: without it, nothing was kept
             if not resume:
@@ -63,7 +71,9 @@ class Checkpoint:
             raise
 
     def chunks(self) -> Iterator[dict[str, np.ndarray]]:
-        """Chunks already finished (unreadable files are dropped and recomputed)."""
+        """Chunks already finished: their result columns, without the stamp. Unreadable
+        files, and chunks of another sweep or at other points, are dropped (with a warning
+        for the latter) and recomputed."""
         if not self.parts.exists():
             return
         for path in sorted(self.parts.glob("chunk-*.npz")):
@@ -73,15 +83,47 @@ class Checkpoint:
             except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
                 path.unlink(missing_ok=True)
                 continue
-            yield chunk
+            problem = self._foreign(chunk)
+            if problem:
+                warnings.warn(f"checkpoint {path} {problem}; it is dropped and its points are computed again",
+                              stacklevel=2)
+                path.unlink(missing_ok=True)
+                continue
+            yield {k: v for k, v in chunk.items() if not k.startswith("_")}
+
+    def _foreign(self, chunk: dict[str, np.ndarray]) -> str:
+        """Why ``chunk`` is not part of this sweep ('' when it is)."""
+        if "_fingerprint" not in chunk or "index" not in chunk:
+            return "carries no sweep fingerprint (written by an older periodyn or another program)"
+        if str(chunk["_fingerprint"]) != self.fingerprint:
+            return "belongs to another sweep (other model, speeds, harmonics, samples, stability or method)"
+        try:
+            expected = self.coordinates(chunk["index"])
+        except (ValueError, TypeError, IndexError):
+            return "holds point indices outside this sweep"
+        for name, values in expected.items():
+            stored = chunk.get(f"_at_{name}")
+            if stored is None or stored.shape != values.shape or not np.array_equal(stored, values):
+                return f"holds points at other values of {name} than this sweep's"
+        return ""
 
     def write(self, chunk: dict[str, np.ndarray]) -> None:
-        """Store one finished chunk (the folder and its manifest are made with the first)."""
-        if not self.manifest.exists():
-            self.parts.mkdir(parents=True, exist_ok=True)
-            self._atomic_write(self.manifest, lambda f: f.write(json.dumps({"fingerprint": self.fingerprint}).encode()))
+        """Store one finished chunk with the sweep's fingerprint and its points' coordinates
+        (the folder and its manifest are made with the first). An OS error (no space, no
+        permission) is an InputError naming the folder and the fix."""
+        stamp = {"_fingerprint": np.array(self.fingerprint),
+                 **{f"_at_{k}": v for k, v in self.coordinates(chunk["index"]).items()}}
         name = f"chunk-{int(chunk['index'][0]):010d}-{len(chunk['index'])}.npz"
-        self._atomic_write(self.parts / name, lambda f: np.savez(f, **chunk))
+        try:
+            if not self.manifest.exists():
+                self.parts.mkdir(parents=True, exist_ok=True)
+                self._atomic_write(self.manifest,
+                                   lambda f: f.write(json.dumps({"fingerprint": self.fingerprint}).encode()))
+            self._atomic_write(self.parts / name, lambda f: np.savez(f, **chunk, **stamp))
+        except OSError as exc:
+            raise InputError(f"cannot write the checkpoint {self.parts / name} ({exc.strerror or exc}); free space "
+                             f"on that disk or make {self.parts.parent} writable, then continue with --resume "
+                             "(resume=True); the chunks finished so far are kept") from None
 
     def finish(self, ds: xr.Dataset) -> None:
         """Write the merged result file, then drop the parts."""

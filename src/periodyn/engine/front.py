@@ -37,6 +37,7 @@ from .warmup import COMPILE_NOTE, kernels_cached
 from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
+from .session import check_interrupt, sweep_guard
 from ..results import STATUS_SOLVED, load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
 
@@ -117,73 +118,76 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     if resume and out is None:
         raise InputError("resume=True needs out=<result file>: the checkpoints live in <out>.parts/")
     grid_names, grid_values = _check_grid(model, parameters)
-    source = ModelSource(model, grid_names, grid_values, p)
-    first = (0,) * len(grid_names)
-    with np.errstate(all="ignore"):  # an overflowing model gives failed points, reported per point
-        probe = source.system(first, float(w[0]))
-    first_model = source.model_at(first)
-    reference = output.reference
-    if reference is None:
-        reference = next(iter(reference_frequencies(first_model).items()), None)
-    units = output.units_for(probe.output_names, first_model)
-    job = Job(source, w, m, stability, method, len(probe.output_names), 2 * probe.n)
-    model_name = output.name or getattr(first_model, "name", None) or getattr(model, "__name__", "model")
-    options = {"model": model_name, "harmonics": m, "samples": probe.samples, "stability": stability,
-               "method": method, "parameters": list(grid_names)}
-    total = int(np.prod(job.shape))
-    backend = "dask" if execution.scheduler is not None else "processes" if workers > 1 else "serial"
+    out = None if out is None else Path(out)
+    with sweep_guard(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
+        source = ModelSource(model, grid_names, grid_values, p)
+        first = (0,) * len(grid_names)
+        with np.errstate(all="ignore"):  # an overflowing model gives failed points, reported per point
+            probe = source.system(first, float(w[0]))
+        first_model = source.model_at(first)
+        reference = output.reference
+        if reference is None:
+            reference = next(iter(reference_frequencies(first_model).items()), None)
+        units = output.units_for(probe.output_names, first_model)
+        job = Job(source, w, m, stability, method, len(probe.output_names), 2 * probe.n)
+        model_name = output.name or getattr(first_model, "name", None) or getattr(model, "__name__", "model")
+        options = {"model": model_name, "harmonics": m, "samples": probe.samples, "stability": stability,
+                   "method": method, "parameters": list(grid_names)}
+        total = int(np.prod(job.shape))
+        backend = "dask" if execution.scheduler is not None else "processes" if workers > 1 else "serial"
 
-    checkpoint = None
-    collected = Collected(job.empty(total))
-    collected.arrays["index"][:] = np.arange(total)
-    if out is not None:
-        out = Path(out)
-        key = fingerprint(job, options, output.sweep_file_text or model_identity(model))
-        finished = _finished(out, key, resume)
-        if finished is not None:
-            return finished
-        checkpoint = Checkpoint(out, key, resume)
-        for chunk in checkpoint.chunks():
-            collected.add(chunk)
-    pending = np.flatnonzero(~collected.done)
-    # several chunks per worker balance the load: of equal count, or of about equal
-    # estimated cost in a sweep long enough to gain from it (at low speeds a point may
-    # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points, an
-    # explicit chunk_size is taken as given
-    if backend != "serial":
-        job.speed_cost = job.speed_costs()
-    if execution.chunk_size or backend == "serial":
-        chunks = split(pending, execution.chunk_size or _MAX_CHUNK)
-    else:
-        costs = job.point_costs(pending)
-        per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
-        size = max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
-        chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
+        checkpoint = None
+        collected = Collected(job.empty(total))
+        collected.arrays["index"][:] = np.arange(total)
+        if out is not None:
+            key = fingerprint(job, options, output.sweep_file_text or model_identity(model))
+            finished = _finished(out, key, resume)
+            if finished is not None:
+                return finished
+            checkpoint = Checkpoint(out, key, resume, job.coordinates)
+            for chunk in checkpoint.chunks():
+                collected.add(chunk)
+        pending = np.flatnonzero(~collected.done)
+        # several chunks per worker balance the load: of equal count, or of about equal
+        # estimated cost in a sweep long enough to gain from it (at low speeds a point may
+        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points, an
+        # explicit chunk_size is taken as given
+        if backend != "serial":
+            job.speed_cost = job.speed_costs()
+        if execution.chunk_size or backend == "serial":
+            chunks = split(pending, execution.chunk_size or _MAX_CHUNK)
+        else:
+            costs = job.point_costs(pending)
+            per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
+            size = max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
+            chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
 
-    if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
-        print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
-    with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-        for chunk in BACKENDS[backend](job, chunks, workers, execution):
-            collected.add(chunk)
-            if checkpoint is not None:
-                checkpoint.write(chunk)
-            bar.update(len(chunk["index"]))
+        if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
+            print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
+        check_interrupt()
+        with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
+            for chunk in BACKENDS[backend](job, chunks, workers, execution):
+                collected.add(chunk)
+                if checkpoint is not None:
+                    checkpoint.write(chunk)
+                bar.update(len(chunk["index"]))
+                check_interrupt()
 
-    attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
-             **options_attrs(options), "backend": backend, "workers": workers if backend != "serial" else 1,
-             "points": total, "points_computed": int(len(pending)),
-             "failed_points": int((collected.arrays["status"] != STATUS_SOLVED).sum()),
-             "stability_methods": _method_counts(collected.arrays["stability_method"], method, stability),
-             "elapsed_s": time.perf_counter() - started,
-             "package_versions": json.dumps(package_versions(), sort_keys=True),
-             "sweep_file_text": output.sweep_file_text or ""}
-    if checkpoint is not None:
-        attrs["fingerprint"] = checkpoint.fingerprint
-    ds = to_dataset(collected.arrays, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
-                    grid=dict(zip(grid_names, grid_values)), reference=reference, attrs=attrs)
-    if checkpoint is not None:
-        checkpoint.finish(ds)
-    return ds
+        attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
+                 **options_attrs(options), "backend": backend, "workers": workers if backend != "serial" else 1,
+                 "points": total, "points_computed": int(len(pending)),
+                 "failed_points": int((collected.arrays["status"] != STATUS_SOLVED).sum()),
+                 "stability_methods": _method_counts(collected.arrays["stability_method"], method, stability),
+                 "elapsed_s": time.perf_counter() - started,
+                 "package_versions": json.dumps(package_versions(), sort_keys=True),
+                 "sweep_file_text": output.sweep_file_text or ""}
+        if checkpoint is not None:
+            attrs["fingerprint"] = checkpoint.fingerprint
+        ds = to_dataset(collected.arrays, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
+                        grid=dict(zip(grid_names, grid_values)), reference=reference, attrs=attrs)
+        if checkpoint is not None:
+            checkpoint.finish(ds)
+        return ds
 
 
 def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:

@@ -153,6 +153,16 @@ class Job:
                 raise InputError(f"at omega = {w:.6g} rad/s: {exc}") from None
         return SpeedBatch.from_points(omegas, points, messages)
 
+    def coordinates(self, indices: np.ndarray) -> dict[str, np.ndarray]:
+        """Where the points with these flat indices lie: ``omega`` (rad/s) and the value of
+        each grid parameter, one entry per point (stored with each checkpoint chunk)."""
+        located = np.unravel_index(np.asarray(indices, dtype=np.int64), self.shape)
+        coords = {"omega": self.omega[located[-1]]}
+        for name, values, at in zip(self.source.grid_names, self.source.grid_values, located[:-1]):
+            values = np.asarray(values)
+            coords[name] = (values if values.dtype.kind in "biufcUS" else values.astype(str))[at]
+        return coords
+
     @property
     def shape(self) -> tuple[int, ...]:
         return tuple(len(v) for v in self.source.grid_values) + (len(self.omega),)

@@ -47,7 +47,7 @@ def stored(path) -> tuple[str | None, str | None]:
     try:
         with xr.open_dataset(path, engine=_ENGINE) as ds:
             return ds.attrs.get(FINGERPRINT), ds.attrs.get(KIND)
-    except (OSError, ValueError, KeyError):
+    except (OSError, ValueError, KeyError, RuntimeError):  # RuntimeError: a damaged HDF5 structure
         return None, None
 
 

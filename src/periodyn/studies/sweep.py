@@ -227,17 +227,19 @@ def run_sweep(spec: SweepSpec, out, *, omega=None, resume: bool = False, workers
     Dataset; with ``resume`` a current ``out`` is read and one made otherwise refused
     (:mod:`periodyn.studies.cache`)."""
     from ..engine import front
+    from ..engine.session import sweep_guard
     from ..results import load, save
 
-    if cache.finished(out, spec, omega, resume):
-        return load(out)
-    ds = front.sweep_file(spec, omega=omega, out=out, workers=workers, scheduler=scheduler, resume=resume,
-                          progress=progress, chunk_size=chunk_size)
-    if spec.boundaries:
-        ds = ds.merge(_boundaries(spec, ds))
-    ds.attrs.update(cache.stamp(spec, omega))
-    save(ds, out)
-    return ds
+    with sweep_guard(out):  # one lock on out from the check of a finished file to the last write
+        if cache.finished(out, spec, omega, resume):
+            return load(out)
+        ds = front.sweep_file(spec, omega=omega, out=out, workers=workers, scheduler=scheduler, resume=resume,
+                              progress=progress, chunk_size=chunk_size)
+        if spec.boundaries:
+            ds = ds.merge(_boundaries(spec, ds))
+        ds.attrs.update(cache.stamp(spec, omega))
+        save(ds, out)
+        return ds
 
 
 def _boundaries(spec: SweepSpec, ds: xr.Dataset) -> xr.Dataset:
