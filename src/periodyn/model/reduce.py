@@ -1,7 +1,7 @@
 """Modal reduction of a constant-speed model onto the undamped modes of its mean system.
 
 Element models are stiff (rod modes with state eigenvalues down to -1e9 1/s) while the
-dominant characteristic exponent lives in the lowest few modes. :func:`reduce` projects
+dominant characteristic exponent lives in the lowest few modes. :func:`modal_reduction` projects
 every sample and every omega-power of an :class:`~periodyn.system.OmegaSplitModel`
 (mass, damping, stiffness, force, output maps) onto k M-orthonormal modes Phi (n, k) of
 the time-averaged system at a reference speed,
@@ -24,7 +24,7 @@ import scipy.linalg as sla
 from ..errors import InputError
 from ..system import OmegaSplitModel
 
-__all__ = ["MeanModes", "ReducedModel", "mean_modes", "guarded_modes", "reduce"]
+__all__ = ["MeanModes", "ReducedModel", "mean_modes", "guarded_modes", "project", "modal_reduction"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,7 +120,7 @@ def project(model: OmegaSplitModel, basis: np.ndarray, frequencies: np.ndarray |
                         Phi, None if frequencies is None else np.asarray(frequencies, float), model)
 
 
-def reduce(model: OmegaSplitModel, modes: int, reference_speed: float = 0.0, *, harmonics: int | None = None,
+def modal_reduction(model: OmegaSplitModel, modes: int, reference_speed: float = 0.0, *, harmonics: int | None = None,
            omega_max: float | None = None) -> ReducedModel:
     """``model`` projected onto its ``modes`` lowest mean-system modes at
     ``reference_speed`` rad/s (:func:`mean_modes`). With ``harmonics`` m and ``omega_max``

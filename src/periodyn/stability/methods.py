@@ -28,6 +28,7 @@ from .floquet import STABILITY_TOL, FloquetExponents
 from .hill import arpack_k, hill_solve, shift_frequencies, shift_grid, top_frequencies
 from .magnus import MagnusLadder, sweep_exponents, sweep_terms
 from .monodromy import monodromy_exponents
+from .reduced import ReducedStability, reduced_choices, system_model
 
 __all__ = ["StabilityMethod", "register", "method_named", "check_method", "names", "characteristic_exponents",
            "operator_exponents", "hill_exponents", "spectra_operator", "auto_exponents", "choose_method",
@@ -239,6 +240,19 @@ def _auto_cost(stage, w: np.ndarray, base: float) -> np.ndarray:
     return base + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)
 
 
+def _reduced_exponents(system: RheoLinear, op: HillOperator, steps=None) -> FloquetExponents:
+    """Stability method "reduced" at one system (its own mean modes, m from the operator);
+    a speed it does not certify goes to "auto" on the full system."""
+    w = np.array([float(system.omega)])
+    exps, done, reasons = ReducedStability(system_model(system)).solve(w, op.m)
+    if not done[0]:
+        fl = auto_exponents(system, op)
+        return FloquetExponents(fl.omega, fl.exponents, fl.centroid, fl.edge, fl.method,
+                                reason=f"{reasons[0]}; {fl.reason}")
+    nan = np.full(2 * system.n, np.nan)
+    return FloquetExponents(float(system.omega), exps[0], nan, nan.copy(), "reduced", reason=reasons[0])
+
+
 def _hill_rule(choice: str) -> Callable[..., FloquetExponents]:
     """Scalar entry of a Hill method ("hill": the cheaper one by :func:`choose_method`)."""
     def exponents(system, op: HillOperator, steps=None) -> FloquetExponents:
@@ -271,7 +285,13 @@ for _method in (
                         batch=lambda stage, w: sweep_exponents(stage.prepared("magnus"), w, stage.n)),
         StabilityMethod("hill", "dense or sparse Hill, whichever is estimated cheaper", _hill_rule("hill"),
                         operator=True, choose=_hill_choices, delegates=("dense", "sparse"),
-                        rule=f"hill: {_HILL_RULE}")):
+                        rule=f"hill: {_HILL_RULE}"),
+        StabilityMethod("reduced", "certified Magnus ladder on the mean-system modal reduction with a "
+                                   "Schur-complement correction for the modes left out, else auto",
+                        _reduced_exponents, operator=True, system=True, choose=reduced_choices,
+                        delegates=("auto", "dense", "sparse"), prepare=ReducedStability,
+                        rule="reduced: the ladder on k mean-system modes plus the Schur correction, certified by "
+                             "ladder error + 2 |d_lambda| T; k doubled where not certified, else auto")):
     register(_method)
 
 

@@ -7,7 +7,7 @@ from periodyn import characteristic_exponents, periodic_solution
 from periodyn.errors import InputError
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
 from periodyn.model.linearization import omega_split
-from periodyn.model.reduce import MeanModes, guarded_modes, mean_modes, reduce
+from periodyn.model.reduce import MeanModes, guarded_modes, mean_modes, modal_reduction
 from periodyn.stability.magnus import MagnusLadder
 
 
@@ -27,7 +27,7 @@ def test_all_modes_reproduce_the_full_model(crank4):
     """k = n is a change of coordinates: the resolved fixed-step Magnus exponents (a
     similarity of the monodromy; the stiff rod modes decay by more than the steps resolve)
     and the forced response are the full model's to round-off."""
-    red = reduce(crank4, crank4.n)
+    red = modal_reduction(crank4, crank4.n)
     for w in (170.0, 260.0):
         full = characteristic_exponents(crank4.at(w), 12, "magnus").exponents
         mine = characteristic_exponents(red.at(w), 12, "magnus").exponents
@@ -45,7 +45,7 @@ def test_the_basis_is_mass_orthonormal_and_kept(crank4):
     assert np.allclose(mm.shapes.T @ M @ mm.shapes, np.eye(crank4.n), atol=1e-10)
     assert np.all(np.diff(mm.frequencies) > 0) and abs(mm.frequencies[0] / first_bending_frequency(
         slider_crank_model(0.0, rod_elements=4)) - 1) < 0.05
-    red = reduce(crank4, 3)
+    red = modal_reduction(crank4, 3)
     assert red.n == 3 and red.basis.shape == (crank4.n, 3) and red.full is crank4
     assert red.output_names == crank4.output_names and red.with_samples(48).basis is red.basis
     assert red.with_samples(48).samples == 48
@@ -58,7 +58,7 @@ def test_reduced_exponents_converge_with_the_rod_mesh():
     w = np.array([160.0, 240.0])
     growth = []
     for el in (16, 32, 64):
-        red = reduce(crank(el), 4)
+        red = modal_reduction(crank(el), 4)
         est = MagnusLadder(*red._power_spectra[:3]).solve(w, np.inf)
         assert est.accepted.all()
         growth.append(est.exponents.real.max(axis=1) * 2 * np.pi / w)
@@ -73,13 +73,13 @@ def test_the_guard_keeps_underdamped_modes_within_parametric_reach(crank4):
     assert guarded_modes(modes, 1, 8, 1.0) == 3  # 9 is overdamped, 30 out of reach
     assert guarded_modes(modes, 1, 30, 1.0) == 5
     # slider-crank: rod modes 830, 3330, 7600 rad/s; m = 12 at 600 rad/s reaches 830 + 7200
-    assert reduce(crank4, 2, harmonics=12, omega_max=300.0).n == 2
-    assert reduce(crank4, 2, harmonics=12, omega_max=600.0).n == 3
+    assert modal_reduction(crank4, 2, harmonics=12, omega_max=300.0).n == 2
+    assert modal_reduction(crank4, 2, harmonics=12, omega_max=600.0).n == 3
 
 
 def test_bad_input_is_refused(crank4):
     for bad in (0, crank4.n + 1, 2.5, True):
         with pytest.raises(InputError, match="modes"):
-            reduce(crank4, bad)
+            modal_reduction(crank4, bad)
     with pytest.raises(InputError, match="both"):
-        reduce(crank4, 2, harmonics=12)
+        modal_reduction(crank4, 2, harmonics=12)
