@@ -100,29 +100,33 @@ class ReducedStability:
             self._ladders[k] = _Ladder(self.M[:, :k, :k], self.C[:, :k, :k], self.K[:, :k, :k], LADDER_TOL)
         return self._ladders[k]
 
-    def _at(self, w: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Modal spectra M, C, K (2K+1, n, n) at speed w."""
-        return (self.M, self.C @ w ** np.arange(self.C.shape[-1]), self.K @ w ** np.arange(self.K.shape[-1]))
+    def _at(self, w: float, rows: slice, cols: slice, mean: bool = False) -> tuple[np.ndarray, ...]:
+        """Modal spectra M, C, K (2K+1, r, c) of the block (rows, cols) at speed w (only the
+        mean coefficients (r, c) with ``mean``)."""
+        k = slice((self.M.shape[0] - 1) // 2, (self.M.shape[0] + 1) // 2) if mean else slice(None)
+        M, C, K = (X[k, rows, cols] for X in (self.M, self.C, self.K))
+        out = (M, C @ w ** np.arange(C.shape[-1]), K @ w ** np.arange(K.shape[-1]))
+        return tuple(X[0] for X in out) if mean else out
 
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
-        M, C, K = (X[(X.shape[0] - 1) // 2].real for X in self._at(w))
-        i = np.arange(k, self.n)
-        c, kk, mm = np.diag(C)[i], np.diag(K)[i], np.diag(M)[i]
+        h = slice(k, self.n)
+        M, C, K = self._at(w, h, h, mean=True)
+        c, kk, mm = np.diag(C).real, np.diag(K).real, np.diag(M).real
         disc = np.sqrt((c * c - 4 * mm * kk).astype(complex))
         return np.concatenate([(-c + disc) / (2 * mm), (-c - disc) / (2 * mm)])
 
     def correction(self, lam: complex, w: float, m: int, k: int) -> tuple[complex, complex, str]:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
-        M, C, K = (_offsets(X, m) for X in self._at(w))  # (2m+1, 2m+1, n, n)
+        l, h = slice(0, k), slice(k, self.n)
+        M, C, K = (_offsets(X, m) for X in self._at(w, l, l))  # (2m+1, 2m+1, k, k)
         a = np.arange(-m, m + 1)
         N = (2 * m + 1) * k
         x = y = None
         for _ in range(3):
             s = lam + 1j * a * w  # s_b per column harmonic b
-            Qll = (s[None, :, None, None] ** 2 * M[:, :, :k, :k] + s[None, :, None, None] * C[:, :, :k, :k]
-                   + K[:, :, :k, :k])
+            Qll = s[None, :, None, None] ** 2 * M + s[None, :, None, None] * C + K
             x, y = _null_vectors(Qll.transpose(0, 2, 1, 3).reshape(N, N))
             x, y = x.reshape(2 * m + 1, k), y.reshape(2 * m + 1, k)
             energy = (np.abs(x) ** 2).sum(axis=1)
@@ -135,16 +139,17 @@ class ReducedStability:
         energy = (np.abs(x) ** 2).sum(axis=1)
         if (energy[0] + energy[-1]) / energy.sum() > EDGE_MAX:
             return lam, np.nan, "the reduced-Hill null vector reaches the outermost harmonics"
-        dQ = 2 * s[None, :, None, None] * M[:, :, :k, :k] + C[:, :, :k, :k]
+        dQ = 2 * s[None, :, None, None] * M + C
         denom = np.einsum("ai,abij,bj->", y.conj(), dQ, x)
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
         S2, S1 = s[None, :, None, None] ** 2, s[None, :, None, None]
-        r = np.einsum("abij,bj->ai", S2 * M[:, :, k:, :k] + S1 * C[:, :, k:, :k] + K[:, :, k:, :k], x)
-        sh = np.einsum("ai,abij->bj", y.conj(), S2 * M[:, :, :k, k:] + S1 * C[:, :, :k, k:] + K[:, :, :k, k:])
-        c = m  # the mean block (offset 0) sits on the diagonal of the (a, b) grid
-        D = (s[:, None, None] ** 2 * M[c, c, k:, k:][None] + s[:, None, None] * C[c, c, k:, k:][None]
-             + K[c, c, k:, k:][None])
+        Mx, Cx, Kx = (_offsets(X, m) for X in self._at(w, h, l))
+        r = np.einsum("abij,bj->ai", S2 * Mx + S1 * Cx + Kx, x)
+        Mx, Cx, Kx = (_offsets(X, m) for X in self._at(w, l, h))
+        sh = np.einsum("ai,abij->bj", y.conj(), S2 * Mx + S1 * Cx + Kx)
+        Mh, Ch, Kh = self._at(w, h, h, mean=True)
+        D = s[:, None, None] ** 2 * Mh[None] + s[:, None, None] * Ch[None] + Kh[None]
         z = np.linalg.solve(D, r[..., None])[..., 0]
         return lam, complex(np.einsum("ai,ai->", sh, z) / denom), ""
 
