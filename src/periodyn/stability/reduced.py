@@ -58,6 +58,24 @@ class _Ladder(MagnusLadder):
         return c
 
 
+def _pairs(K: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Index arrays (a, b, a - b + K) of the harmonic pairs a, b = -m..m with |a - b| <= K."""
+    a, b = np.meshgrid(np.arange(2 * m + 1), np.arange(2 * m + 1), indexing="ij")
+    keep = np.abs(a - b) <= K
+    return a[keep], b[keep], (a - b)[keep] + K
+
+
+def _apply(spectra, weights: np.ndarray, x: np.ndarray, m: int) -> np.ndarray:
+    """r_a = sum_b sum_q weights[q, b] X^q_(a-b) x_b for spectra X^q (2K+1, r, c), weights
+    (Q, 2m+1), x (2m+1, c): (2m+1, r), without forming the (2m+1)^2 blocks."""
+    a, b, d = _pairs((spectra[0].shape[0] - 1) // 2, m)
+    out = np.zeros((2 * m + 1, spectra[0].shape[1]), dtype=complex)
+    for X, wq in zip(spectra, weights):
+        P = np.einsum("dij,bj->dbi", X, wq[:, None] * x)  # (2K+1, 2m+1, r)
+        np.add.at(out, a, P[d, b])
+    return out
+
+
 def _offsets(X: np.ndarray, m: int) -> np.ndarray:
     """Coefficients X_(a-b) for a, b = -m..m from a spectrum (2K+1, ...), (2m+1, 2m+1, ...)."""
     K = (X.shape[0] - 1) // 2
@@ -118,6 +136,14 @@ class ReducedStability:
         disc = np.sqrt((c * c - 4 * mm * kk).astype(complex))
         return np.concatenate([(-c + disc) / (2 * mm), (-c - disc) / (2 * mm)])
 
+    def mean_exponents(self, w: float, k: int) -> np.ndarray:
+        """Exponents (2k,) of the kept modes' mean system at speed w (the representatives'
+        first guess: a Floquet exponent lies near one of them)."""
+        l = slice(0, k)
+        M, C, K = self._at(w, l, l, mean=True)
+        A = np.block([[np.zeros((k, k)), np.eye(k)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+        return np.linalg.eigvals(A)
+
     def correction(self, lam: complex, w: float, m: int, k: int) -> tuple[complex, complex, str]:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
@@ -125,6 +151,9 @@ class ReducedStability:
         M, C, K = (_offsets(X, m) for X in self._at(w, l, l))  # (2m+1, 2m+1, k, k)
         a = np.arange(-m, m + 1)
         N = (2 * m + 1) * k
+        nu = self.mean_exponents(w, k)
+        j = np.rint((nu.imag - lam.imag) / w)
+        lam = lam + 1j * w * j[np.argmin(np.abs(lam + 1j * w * j - nu))]
         x = y = None
         for _ in range(3):
             s = lam + 1j * a * w  # s_b per column harmonic b
@@ -145,11 +174,12 @@ class ReducedStability:
         denom = np.einsum("ai,abij,bj->", y.conj(), dQ, x)
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
-        S2, S1 = s[None, :, None, None] ** 2, s[None, :, None, None]
-        Mx, Cx, Kx = (_offsets(X, m) for X in self._at(w, h, l))
-        r = np.einsum("abij,bj->ai", S2 * Mx + S1 * Cx + Kx, x)
-        Mx, Cx, Kx = (_offsets(X, m) for X in self._at(w, l, h))
-        sh = np.einsum("ai,abij->bj", y.conj(), S2 * Mx + S1 * Cx + Kx)
+        weights = np.stack([s * s, s, np.ones_like(s)])
+        r = _apply(self._at(w, h, l), weights, x, m)
+        # s_h[b] = sum_a y_a^H Q_lh[a, b]: the transposed convolution, harmonics reversed
+        ones = np.ones((1, 2 * m + 1))
+        sh = sum(wq[:, None] * _apply([np.conj(X[::-1].transpose(0, 2, 1))], ones, y, m).conj()
+                 for X, wq in zip(self._at(w, l, h), weights))
         Mh, Ch, Kh = self._at(w, h, h, mean=True)
         D = s[:, None, None] ** 2 * Mh[None] + s[:, None, None] * Ch[None] + Kh[None]
         z = np.linalg.solve(D, r[..., None])[..., 0]
