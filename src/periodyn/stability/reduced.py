@@ -71,8 +71,8 @@ def _apply(spectra, weights: np.ndarray, x: np.ndarray, m: int) -> np.ndarray:
     a, b, d = _pairs((spectra[0].shape[0] - 1) // 2, m)
     out = np.zeros((2 * m + 1, spectra[0].shape[1]), dtype=complex)
     for X, wq in zip(spectra, weights):
-        P = np.einsum("dij,bj->dbi", X, wq[:, None] * x)  # (2K+1, 2m+1, r)
-        np.add.at(out, a, P[d, b])
+        P = X @ (wq[:, None] * x).T  # (2K+1, r, 2m+1)
+        np.add.at(out, a, P[d, :, b])
     return out
 
 
