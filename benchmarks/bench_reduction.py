@@ -75,7 +75,7 @@ def main():
             diff = np.abs(Gf - G[np.searchsorted(omegas, w)])[both].max() if both.any() else np.nan
         print(f"{el:6d}{model.n:5d}{full_rate:11.3g}{count:9d}{full_err:10.1e}{red_rate:14.3g}"
               f"{done.sum():5d}/{omegas.size:<4d}{max(bounds, default=np.nan):9.1e}{'/'.join(map(str, modes)) or '-':>8}"
-              f"{diff:9.1e}{setup:10.2f}{red_rate / full_rate:9.3g}", flush=True)
+              f"{diff:9.1e}{setup:10.2f}{red_rate / full_rate if done.all() else np.nan:9.3g}", flush=True)
 
 
 if __name__ == "__main__":
