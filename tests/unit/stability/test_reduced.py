@@ -4,6 +4,7 @@ Schur-complement correction, against fine Magnus references of the full models."
 import numpy as np
 import pytest
 
+import periodyn
 from periodyn import characteristic_exponents
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
 from periodyn.kernels.solvers.magnus_ladder import streamed_moduli
@@ -109,3 +110,11 @@ def test_the_correction_meets_the_16_element_model():
         raw, G, bound = corrected(R, w, k)
         assert np.all(np.abs(G - ref) <= 1e-8) and np.all(bound >= np.abs(G - ref))
         assert np.all(bound >= np.abs(raw - ref))
+
+
+def test_a_sweep_records_the_reduced_method():
+    model = crank(8)
+    w = np.array([160.0, 230.0])
+    ds = periodyn.sweep(model, w, 12, 64, stability="reduced", progress=False)
+    assert list(ds["stability_method"].values) == ["reduced", "reduced"]
+    assert np.allclose(ds["max_real_exponent"].values * 2 * np.pi / w, reference(model, w), rtol=0, atol=1e-8)
