@@ -5,7 +5,9 @@ Vocabulary (:func:`names`): "dense" and "sparse" (Hill's method, :mod:`.hill`), 
 (whichever of the two is estimated cheaper, :func:`choose_method`), "magnus" (fixed-step
 4th-order Magnus monodromy, :mod:`.magnus`), "monodromy" (DOP853 reference, :mod:`.monodromy`)
 and "auto": the certified Magnus ladder where its error estimate settles the verdict within
-HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`).
+HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`);
+"reduced": the ladder on a mean-system modal reduction with a certified Schur-complement
+correction (:mod:`.reduced`, for large element models; what it does not certify goes to "auto").
 Sweeps (:class:`periodyn.stability.batch.SpeedStability`), :func:`characteristic_exponents`,
 orbits (:func:`periodyn.nonlinear.orbit_linearization.orbit_exponents`) and boundaries all
 look their method up here. A new method is one module plus one :func:`register` call.
@@ -28,6 +30,7 @@ from .floquet import STABILITY_TOL, FloquetExponents
 from .hill import arpack_k, hill_solve, shift_frequencies, shift_grid, top_frequencies
 from .magnus import MagnusLadder, sweep_exponents, sweep_terms
 from .monodromy import monodromy_exponents
+from .reduced import ReducedStability, reduced_choices, system_model
 
 __all__ = ["StabilityMethod", "register", "method_named", "check_method", "names", "characteristic_exponents",
            "operator_exponents", "hill_exponents", "spectra_operator", "auto_exponents", "choose_method",
@@ -239,6 +242,19 @@ def _auto_cost(stage, w: np.ndarray, base: float) -> np.ndarray:
     return base + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)
 
 
+def _reduced_exponents(system: RheoLinear, op: HillOperator, steps=None) -> FloquetExponents:
+    """Stability method "reduced" at one system (its own mean modes, m from the operator);
+    a speed it does not certify goes to "auto" on the full system."""
+    w = np.array([float(system.omega)])
+    exps, done, reasons = ReducedStability(system_model(system)).solve(w, op.m)
+    if not done[0]:
+        fl = auto_exponents(system, op)
+        return FloquetExponents(fl.omega, fl.exponents, fl.centroid, fl.edge, fl.method,
+                                reason=f"{reasons[0]}; {fl.reason}")
+    nan = np.full(2 * system.n, np.nan)
+    return FloquetExponents(float(system.omega), exps[0], nan, nan.copy(), "reduced", reason=reasons[0])
+
+
 def _hill_rule(choice: str) -> Callable[..., FloquetExponents]:
     """Scalar entry of a Hill method ("hill": the cheaper one by :func:`choose_method`)."""
     def exponents(system, op: HillOperator, steps=None) -> FloquetExponents:
@@ -271,7 +287,13 @@ for _method in (
                         batch=lambda stage, w: sweep_exponents(stage.prepared("magnus"), w, stage.n)),
         StabilityMethod("hill", "dense or sparse Hill, whichever is estimated cheaper", _hill_rule("hill"),
                         operator=True, choose=_hill_choices, delegates=("dense", "sparse"),
-                        rule=f"hill: {_HILL_RULE}")):
+                        rule=f"hill: {_HILL_RULE}"),
+        StabilityMethod("reduced", "certified Magnus ladder on the mean-system modal reduction with a "
+                                   "Schur-complement correction for the modes left out, else auto",
+                        _reduced_exponents, operator=True, system=True, choose=reduced_choices,
+                        delegates=("auto", "dense", "sparse"), prepare=ReducedStability,
+                        rule="reduced: the ladder on k mean-system modes plus the Schur correction, certified by "
+                             "ladder error + 2 |d_lambda| T; k doubled where not certified, else auto")):
     register(_method)
 
 
