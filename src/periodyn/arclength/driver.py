@@ -181,9 +181,12 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     ``element_dae``) by pseudo-arc-length continuation -> Branch.
 
     omega: (start, stop) rad/s for a frequency response, or a fixed value when
-    ``parameter=(name, start, stop)`` continues a named parameter. method: "ihb" (H =
+    ``parameter=(name, start, stop)`` continues a named parameter; start and stop finite,
+    distinct and, for omega, positive: the branch stays between them and ends exactly on stop
+    (or on start when it turns back out of the range; ``palc.trace``). method: "ihb" (H =
     harmonics) or "shooting" (spectra truncated to H). initial: a PeriodicSolution at the
-    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
+    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching:
+    only omega > 0 and the side of stop bound the branch).
     options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
     fields. progress: None or a callable (points so far, parameter value (omega for a
     frequency response) of the newest point). Every point carries its residual and Newton iterations (chord
