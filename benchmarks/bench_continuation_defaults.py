@@ -36,7 +36,9 @@ def main():
     ap.add_argument("--rounds", type=int, default=1)
     args = ap.parse_args()
     rod = rod_pendulum(m1=1, l=1, eps1=0.1, f=1, g=9.81)
-    continuation(rod, (3.0, 3.2), harmonics=5, confirm=False)  # compile and warm the kernels
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        continuation(rod, (3.0, 3.2), harmonics=5, confirm=False)  # compile and warm the kernels
     print(f"{'omega':>8} {'former s':>9} {'points':>6} {'specials':>8} {'defaults s':>10} {'H':>3} {'points':>6} "
           f"{'specials':>8} {'flagged':>7} {'ratio':>6}")
     for omega in ((1.0, 8.0), (8.0, 1.0)):

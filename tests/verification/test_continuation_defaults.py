@@ -16,6 +16,7 @@ at 2.724, 2.920 that the shooting reference lacks.
 import numpy as np
 import pytest
 
+import periodyn.arclength.entry as entry
 from periodyn.arclength import continuation, load_branch, switch_branch
 from periodyn.arclength.entry import DEFECT_TOL, TruncationWarning, _next_harmonics
 from periodyn.arclength.truncation import orbit_defect
@@ -71,6 +72,17 @@ def test_given_harmonics_are_kept_but_flagged_with_their_spurious_points(rod, tm
     back = load_branch(br.save(tmp_path / "b.nc"))
     np.testing.assert_array_equal(back.defect, br.defect)
     assert back.options["truncation"] == br.options["truncation"]
+
+
+def test_chosen_harmonics_resolve_a_short_range_or_warn_at_the_most_allowed(rod, monkeypatch):
+    """3.0-3.2 rad/s: the H = 5 orbits leave a defect of 1.2e-2; doubled, they are resolved."""
+    br = continuation(rod, (3.0, 3.2))
+    assert br.options["harmonics"] == 10 and np.max(br.defect) <= DEFECT_TOL
+    assert max(orbit_defect(rod, s) for s in br.solutions) == pytest.approx(np.max(br.defect))
+    monkeypatch.setattr(entry, "_H_MAX", 5)
+    with pytest.warns(TruncationWarning, match=r"H = 5 harmonics chosen \(the last that traced; at most 5\)"):
+        br = continuation(rod, (3.0, 3.2))
+    assert br.options["truncation"].startswith("unresolved") and np.max(br.defect) > DEFECT_TOL
 
 
 def test_harmonics_grow_geometrically_toward_the_tolerance():

@@ -50,14 +50,14 @@ def continuation(system, omega, harmonics: int | None = None, method: str = "ihb
     elif harmonics is not None:
         branch = _flagged(trace_branch(system, omega, harmonics, method, parameter, **kwargs), chosen=False)
     else:
-        branch = _resolved(system, omega, parameter, kwargs)
+        branch = _flagged(_resolved(system, omega, parameter, kwargs), chosen=True)
     confirm = branch.options.get("confirm", False)
     return confirm_special_points(branch, integrate=confirm is True) if confirm else branch
 
 
 def _resolved(system, omega, parameter, kwargs) -> Branch:
-    """The IHB branch with the fewest harmonics of the growth rule (module docstring) that
-    resolve its orbits, or the last one tried, flagged."""
+    """The IHB branch, with its defects, of the fewest harmonics of the growth rule (module
+    docstring) that resolve its orbits, or the last one traced."""
     H, last, branch = _H_START, None, None
     while True:
         try:
@@ -65,13 +65,13 @@ def _resolved(system, omega, parameter, kwargs) -> Branch:
         except ConvergenceError:
             if branch is None:
                 raise
-            break  # keep the last branch traced (flagged below)
+            break  # keep the last branch traced (the caller flags it)
         branch = _with_defects(new)
         worst = float(np.max(branch.defect))
         if worst <= DEFECT_TOL or H >= _H_MAX:
             break
         H, last = _next_harmonics(H, worst, last), (H, worst)
-    return _flagged(branch, chosen=True)
+    return branch
 
 
 def _next_harmonics(H: int, defect: float, last: tuple | None) -> int:
@@ -98,7 +98,7 @@ def _flagged(branch: Branch, chosen: bool) -> Branch:
     if branch.defect[k] <= DEFECT_TOL:
         note = f"resolved: orbit defect at most {branch.defect[k]:.2g} <= {DEFECT_TOL:g} with H = {H}"
     else:
-        how = f"chosen (the most tried, {_H_MAX})" if chosen else "given"
+        how = f"chosen (the last that traced; at most {_H_MAX})" if chosen else "given"
         note = (f"unresolved: orbit defect {branch.defect[k]:.2g} > {DEFECT_TOL:g} at omega = {branch.omega[k]:.6g} "
                 f"rad/s with H = {H} harmonics {how}, at {int(np.sum(branch.defect > DEFECT_TOL))} of {len(branch)} "
                 "points (Branch.defect): amplitudes and special points there may be properties of the truncation; "
