@@ -218,7 +218,8 @@ class Arc:
 
 
 def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float, ds_max: float,
-          max_points: int, bounds: tuple[float, float] | None = None, positive: bool = False) -> Iterator[ArcPoint | str]:
+          max_points: int, bounds: tuple[float, float] | None = None,
+          positive: bool = False) -> Iterator[ArcPoint | str]:
     """Accepted points after ``start`` until the branch reaches p_stop; the last item yielded
     is the status string (why the branch ended).
 

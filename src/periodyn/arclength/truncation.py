@@ -16,8 +16,9 @@ the same type in that window whose own orbit is resolved (defect <= ``defect_tol
 **spurious** (``confirmed`` False, with the reason) when it has none, when the ones it has
 are unresolved too (neither truncation resolves the orbit), or when Newton at H' converges
 from none of these orbits. On a branch over another parameter an unresolved point is
-flagged (``confirmed`` False, "unresolved") without the re-solve. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
-itself is for ``confirm_special_points`` to confirm by direct integration.
+flagged (``confirmed`` False, "unresolved") without the re-solve. Points that are resolved
+(small defect) or persist keep ``confirmed`` None: the crossing itself is for
+``confirm_special_points`` to confirm by direct integration.
 """
 
 from __future__ import annotations
@@ -70,8 +71,8 @@ def check_truncation(branch: Branch, system=None, *, harmonics: int | None = Non
     if system is None:
         raise InputError("checking special points needs the DAE: pass system= for a branch loaded from a file")
     if branch.solutions[0].method != "ihb":
-        raise InputError(f"the truncation check is for harmonic-balance (ihb) branches, not {branch.solutions[0].method} "
-                         "ones")
+        raise InputError("the truncation check is for harmonic-balance (ihb) branches, not "
+                         f"{branch.solutions[0].method} ones")
     H = (branch.solutions[0].harmonics.shape[0] - 1) // 2
     H2 = H + 4 if harmonics is None else int(harmonics)
     if H2 <= H:
@@ -97,8 +98,8 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
                        check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
     if branch.parameter_name is not None:
         return replace(sp, defect=defect, confirmed=False,
-                       check=f"unresolved: orbit defect {defect:.2g} > {defect_tol:g} at H = {H} (the re-solve with more "
-                             f"harmonics follows omega, not {branch.parameter_name}): raise the harmonics")
+                       check=f"unresolved: orbit defect {defect:.2g} > {defect_tol:g} at H = {H} (the re-solve "
+                             f"with more harmonics follows omega, not {branch.parameter_name}): raise the harmonics")
     lo, hi = sp.omega * (1 - window), sp.omega * (1 + window)
     try:
         branches = _local_branches(system, sp, branch, (lo, hi), H2)
