@@ -104,3 +104,16 @@ def test_continuation_and_study_files_run_the_truncation_check_alone(system, tmp
         else:
             with pytest.raises(InputError, match="truncation"):
                 load_sweep_file(path)
+
+
+def test_unresolved_point_of_a_parameter_branch_is_flagged():
+    """A fold in the forcing amplitude (rod pendulum defaults at 3.3 rad/s) with H = 3: the
+    re-solve follows omega only, so the unresolved orbit is flagged by its defect alone."""
+    s = rod_pendulum()
+    with pytest.warns(UserWarning, match="H = 3 harmonics given"):
+        br = continuation(s, 3.3, harmonics=3, parameter=("f", 0.02, 1.0), stability=None, max_points=86,
+                          ds_max=0.5)
+    (fold,) = br.points("fold")
+    assert 0.7 < fold.parameter < 0.75 and fold.defect == pytest.approx(orbit_defect(s, fold.solution))
+    assert fold.defect > 1e-3 and fold.confirmed is False
+    assert fold.check.startswith("unresolved") and "follows omega, not f" in fold.check

@@ -13,6 +13,7 @@ variable               dims                             meaning
 ``max_multiplier``     (point,)                         largest |mu| (nan without stability)
 ``residual``           (point,)                         corrector residual max-norm
 ``iterations``         (point,)                         corrector Newton updates
+``defect``             (point,)                         orbit defect (IHB; absent if not computed)
 ``harmonics``          (point, harmonic, coordinate)    complex q harmonics, l = -m..m
 ``lambda_harmonics``   (point, harmonic, constraint)    complex constraint-force harmonics
 ``multipliers``        (point, multiplier)              complex Floquet multipliers (nan if none)
@@ -98,7 +99,8 @@ class Branch:
     residual (k,) and iterations (k,) of each corrector; special_points; solutions: the
     PeriodicSolution of every point; status: why the branch ended; problem and options:
     what produced it (problem is None for a branch loaded from a file); unknowns (k, N):
-    the discretization's unknowns (None when loaded).
+    the discretization's unknowns (None when loaded); defect (k,): the orbit defect of each
+    point (``truncation.branch_defects``, dimensionless; None when not computed).
     """
 
     omega: np.ndarray
@@ -115,6 +117,7 @@ class Branch:
     problem: Any = field(repr=False, default=None)
     options: dict = field(default_factory=dict)
     unknowns: np.ndarray | None = field(repr=False, default=None)
+    defect: np.ndarray | None = field(repr=False, default=None)
 
     def __len__(self) -> int:
         return len(self.omega)
@@ -170,6 +173,8 @@ class Branch:
              "special_defect": ("special", np.array([p.defect for p in sps], float))},
             coords={"harmonic": np.arange(-s0.m, s0.m + 1), "coordinate": list(s0.coordinate_names),
                     "constraint": list(s0.constraint_names)})
+        if self.defect is not None:
+            ds["defect"] = ("point", np.asarray(self.defect, float))
         opts = {k: v for k, v in self.options.items() if isinstance(v, (int, float, str, bool, type(None)))}
         ds.attrs.update(parameter_name=self.parameter_name or "", status=self.status, method=s0.method,
                         subharmonic=int(s0.subharmonic), options=json.dumps(opts, sort_keys=True),
@@ -227,7 +232,8 @@ class Branch:
             options["problem_references"] = v["problem_references"]
         branch = cls.from_solutions(sols, v["parameter"], name, specials, str(ds.attrs["status"]),
                                     options=options, amplitude=v["amplitude"])
-        return replace(branch, max_multiplier=v["max_multiplier"])  # as stored, not exp(log(mu))
+        return replace(branch, max_multiplier=v["max_multiplier"],  # as stored, not exp(log(mu))
+                       defect=v.get("defect"))
 
     def save(self, path):
         """Write the branch to a netCDF file (``periodyn.results.save``); returns the path."""

@@ -1,6 +1,6 @@
 """Special points checked against the truncation, then by direct integration of the DAE (or ODE).
 
-On a harmonic-balance frequency response every point first goes through
+On a harmonic-balance branch every point first goes through
 ``periodyn.arclength.truncation.check_truncation``: the orbit defect is recorded, and a
 point whose orbit is unresolved and whose crossing does not persist at more harmonics is
 rejected as spurious without integration (the expensive step below is spent only on the
@@ -92,7 +92,7 @@ def confirm_special_points(branch: Branch, system=None, *, tol: float = 1e-3, rt
     if system.n != branch.solutions[0].harmonics.shape[1]:
         raise InputError(f"the system has {system.n} coordinates, the branch {branch.solutions[0].harmonics.shape[1]}")
     unchecked = any(np.isnan(sp.defect) for sp in branch.special_points if sp.type in types)
-    if branch.solutions[0].method == "ihb" and branch.parameter_name is None and unchecked:
+    if branch.solutions[0].method == "ihb" and unchecked:
         branch = check_truncation(branch, system, harmonics=harmonics, defect_tol=defect_tol, window=window,
                                   types=types)
     if not integrate:

@@ -43,7 +43,8 @@ class ContinuationOptions:
     of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
     its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: True
     checks every special point (``confirm_special_points``, its defaults: truncation, then
-    direct integration), "truncation" only against more harmonics (``check_truncation``);
+    direct integration), "truncation" (the default) only against more harmonics
+    (``check_truncation``: IHB branches), False not at all;
     shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
     models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
     shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
@@ -59,7 +60,7 @@ class ContinuationOptions:
     subharmonic: int = 1
     stability: str | None = "magnus"
     shooting_samples: int = 128
-    confirm: bool | str = False
+    confirm: bool | str = "truncation"
     shooting_method: str = "auto"
     shooting_steps: int = STEPS
 
@@ -180,9 +181,12 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     ``element_dae``) by pseudo-arc-length continuation -> Branch.
 
     omega: (start, stop) rad/s for a frequency response, or a fixed value when
-    ``parameter=(name, start, stop)`` continues a named parameter. method: "ihb" (H =
+    ``parameter=(name, start, stop)`` continues a named parameter; start and stop finite,
+    distinct and, for omega, positive: the branch stays between them and ends exactly on stop
+    (or on start when it turns back out of the range; ``palc.trace``). method: "ihb" (H =
     harmonics) or "shooting" (spectra truncated to H). initial: a PeriodicSolution at the
-    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching).
+    start (else solved from ``system.q0``). tangent: initial (dX, dp) (branch switching:
+    only omega > 0 and the side of stop bound the branch).
     options: ContinuationOptions; keyword values (ds=..., stability=..., ...) override its
     fields. progress: None or a callable (points so far, parameter value (omega for a
     frequency response) of the newest point). Every point carries its residual and Newton iterations (chord
@@ -201,6 +205,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         if len(parameter) != 3 or parameter[0] not in system.parameters:
             raise InputError(f"parameter must be (name, start, stop) with name in {sorted(system.parameters)}")
         name, p0, p1 = parameter[0], float(parameter[1]), float(parameter[2])
+    _check_range(name, p0, p1)
 
     def at(p):
         """(omega, parameters) of parameter value p."""
@@ -229,7 +234,9 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
     sols = [record(pts[0])]
     specials, status, loose, unknowns = [], "", set(), {}
-    for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points):
+    bounds = (min(p0, p1), max(p0, p1)) if tangent is None else None  # a switched branch may turn back past its start
+    for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points,
+                      bounds=bounds, positive=name is None):
         if isinstance(item, str):
             status = item
             break
@@ -247,6 +254,17 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     branch = Branch.from_solutions(sols, [pt.p for pt in pts], name, specials, status, disc.prob, options,
                                    np.array([pt.X for pt in pts]))
     return branch
+
+
+def _check_range(name: str | None, p0: float, p1: float) -> None:
+    """Refuse a continuation range that is empty, not finite or, for omega, not positive."""
+    what = "omega=(start, stop) in rad/s" if name is None else f"parameter=({name!r}, start, stop)"
+    if not (np.isfinite(p0) and np.isfinite(p1)):
+        raise InputError(f"{what} must be finite, got ({p0}, {p1}); give both ends as numbers")
+    if name is None and not (p0 > 0 and p1 > 0):
+        raise InputError(f"{what} must be positive driving speeds, got ({p0}, {p1}); give 0 < start, stop")
+    if p0 == p1:
+        raise InputError(f"{what} is empty: start and stop are both {p0}; give two different values")
 
 
 def _known(values: dict) -> dict:

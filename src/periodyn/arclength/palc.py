@@ -41,7 +41,7 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.krylov import gmres
 from ..numerics.newton_iteration import lu_factor, newton
 
-__all__ = ["Arc", "ArcPoint", "trace"]
+__all__ = ["Arc", "ArcPoint", "land", "trace"]
 
 _H_REL = 1e-6  # relative step of the central difference dR/dp
 _CHORD_RATE = 0.5  # reuse mode: a chord update must shrink the residual this much, else J is factorized
@@ -218,23 +218,34 @@ class Arc:
 
 
 def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float, ds_max: float,
-          max_points: int) -> Iterator[ArcPoint | str]:
-    """Accepted points after ``start`` until p passes p_stop; the last item yielded is the
-    status string (why the branch ended)."""
+          max_points: int, bounds: tuple[float, float] | None = None,
+          positive: bool = False) -> Iterator[ArcPoint | str]:
+    """Accepted points after ``start`` until the branch reaches p_stop; the last item yielded
+    is the status string (why the branch ended).
+
+    bounds: (lo, hi) the parameter never leaves (default: from start.p to p_stop, either
+    side open); positive: p > 0 besides (a driving speed). A predictor beyond a bound is
+    shortened to land on it, and a corrected point beyond it is re-solved at the bound
+    itself (fixed p, :func:`land`): a branch ends exactly on p_stop, or on the other bound
+    when it turns back out of the range. A predictor to p <= 0 is cut back to half the way
+    to 0, and a corrected point at p <= 0 is a failed step."""
     direction = np.sign(p_stop - start.p) or 1.0
+    lo, hi = bounds if bounds is not None else sorted((p_stop, -direction * np.inf))
     pt, count = start, 1
     while count < max_points:
-        if (pt.p - p_stop) * direction >= 0 and count > 1:
-            yield "parameter range covered"
-            return
         if arc.follow(pt.X):  # the branch grew: steps in the new scale, tangent of unit length in it
             pt = ArcPoint(pt.X, pt.p, pt.t / arc.norm(pt.t), pt.residual, pt.iterations)
         new = None
         while ds >= ds_min:
+            step = _inside(pt, ds, arc.N, lo, hi, positive)
             try:
-                new = arc.correct(pt.X + ds * pt.t[:arc.N], pt.p + ds * pt.t[arc.N], pt.t, start=pt)
+                new = arc.correct(pt.X + step * pt.t[:arc.N], pt.p + step * pt.t[arc.N], pt.t, start=pt)
+                if not lo <= new.p <= hi:
+                    new = land(arc, pt, new, hi if new.p > hi else lo)
             except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, FloatingPointError, ValueError,
                     RuntimeError):
+                new = None
+            if new is not None and positive and not new.p > 0:
                 new = None
             if new is not None and not (arc.dot(new.t, pt.t) < 0.9 and ds > ds_min * 2):
                 break
@@ -247,6 +258,13 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
             return
         yield new
         pt, count = new, count + 1
+        if pt.p == p_stop:
+            yield "parameter range covered"
+            return
+        if pt.p in (lo, hi):
+            yield (f"the branch turned back and left the range at parameter {pt.p:.6g} (its start side; stop "
+                   f"{p_stop:.6g}): widen the range to follow it")
+            return
         easy, hard = _CHORD_EASY if arc.reuse else (3, 6)
         if new.iterations <= easy:
             ds = min(ds * 1.5, ds_max)
@@ -254,6 +272,32 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
             ds *= 0.7
     yield (f"max_points reached: {max_points} points ended at parameter {pt.p:.6g} before the stop {p_stop:.6g}; "
            f"raise max_points, or ds_max (now {ds_max:g}) for longer steps")
+
+
+def _inside(pt: ArcPoint, ds: float, N: int, lo: float, hi: float, positive: bool) -> float:
+    """The step ds, shortened so that the predictor's parameter stays within [lo, hi] (landing
+    on the bound it would cross) and, when positive, above half the way to 0."""
+    tp = pt.t[N]
+    p = pt.p + ds * tp
+    if p > hi and tp > 0:
+        ds = (hi - pt.p) / tp
+    elif p < lo and tp < 0:
+        ds = (lo - pt.p) / tp
+    if positive and pt.p + ds * tp <= 0 and tp < 0:
+        ds = 0.5 * pt.p / -tp
+    return ds
+
+
+def land(arc: Arc, a: ArcPoint, b: ArcPoint, p: float) -> ArcPoint:
+    """The branch point at parameter exactly p between accepted a and corrected b (p between
+    theirs): Newton at fixed p from the linear interpolation, its tangent oriented along b's;
+    raises ConvergenceError."""
+    f = (p - a.p) / (b.p - a.p)
+    t = np.zeros(arc.N + 1)
+    t[arc.N] = 1.0
+    pt = arc.correct(a.X + f * (b.X - a.X), p, t, start=a)
+    tt = pt.t if arc.dot(pt.t, b.t) >= 0 else -pt.t
+    return ArcPoint(pt.X, p, tt, pt.residual, pt.iterations)
 
 
 def first_point(arc: Arc, X0, p0: float, p_stop: float, tangent=None) -> ArcPoint:

@@ -15,8 +15,10 @@ zero-padded (from a bracketing orbit when Newton fails there), to both sides ove
 the same type in that window whose own orbit is resolved (defect <= ``defect_tol``), and is
 **spurious** (``confirmed`` False, with the reason) when it has none, when the ones it has
 are unresolved too (neither truncation resolves the orbit), or when Newton at H' converges
-from none of these orbits. Points that are resolved (small defect) or persist keep ``confirmed`` None: the crossing
-itself is for ``confirm_special_points`` to confirm by direct integration.
+from none of these orbits. On a branch over another parameter an unresolved point is
+flagged (``confirmed`` False, "unresolved") without the re-solve. Points that are resolved
+(small defect) or persist keep ``confirmed`` None: the crossing itself is for
+``confirm_special_points`` to confirm by direct integration.
 """
 
 from __future__ import annotations
@@ -31,19 +33,29 @@ from .branch import Branch, SpecialPoint
 from .driver import trace_branch
 from .events import KINDS
 
-__all__ = ["orbit_defect", "check_truncation"]
+__all__ = ["branch_defects", "orbit_defect", "check_truncation"]
 
 
 def orbit_defect(system, solution, oversample: int = 4) -> float:
     """max_t |M q'' + Phi_q^T lambda - f|_inf / max_t |f|_inf of a harmonic-balance
     PeriodicSolution, at ``oversample`` x the IHB's default samples of its H."""
+    return float(branch_defects(system, [solution], oversample)[0])
+
+
+def branch_defects(system, solutions, oversample: int = 4) -> np.ndarray:
+    """(k,) orbit defects (:func:`orbit_defect`) of k harmonic-balance PeriodicSolutions of
+    one H and subharmonic (the points of a branch), with one oversampled problem."""
     if not isinstance(oversample, (int, np.integer)) or oversample < 1:
         raise InputError(f"oversample must be a positive integer, got {oversample!r}")
-    H = (solution.harmonics.shape[0] - 1) // 2
-    prob = IHBProblem(system, H, oversample * default_samples(H), solution.subharmonic)
-    P = dict(system.parameters, **solution.parameters)
-    _, r1, _, f = prob.sampled_residual(prob.from_solution(solution), float(solution.omega), P)
-    return float(np.max(np.abs(r1)) / max(np.max(np.abs(f)), np.finfo(float).tiny))
+    s0 = solutions[0]
+    H = (s0.harmonics.shape[0] - 1) // 2
+    prob = IHBProblem(system, H, oversample * default_samples(H), s0.subharmonic)
+    out = np.empty(len(solutions))
+    for k, sol in enumerate(solutions):
+        P = dict(system.parameters, **sol.parameters)
+        _, r1, _, f = prob.sampled_residual(prob.from_solution(sol), float(sol.omega), P)
+        out[k] = np.max(np.abs(r1)) / max(np.max(np.abs(f)), np.finfo(float).tiny)
+    return out
 
 
 def check_truncation(branch: Branch, system=None, *, harmonics: int | None = None, defect_tol: float = 1e-3,
@@ -58,9 +70,9 @@ def check_truncation(branch: Branch, system=None, *, harmonics: int | None = Non
     system = branch.options.get("system") if system is None else system
     if system is None:
         raise InputError("checking special points needs the DAE: pass system= for a branch loaded from a file")
-    if branch.solutions[0].method != "ihb" or branch.parameter_name is not None:
-        raise InputError("the truncation check is for harmonic-balance (ihb) frequency responses, not "
-                         f"{branch.solutions[0].method} branches over {branch.parameter_name or 'omega'}")
+    if branch.solutions[0].method != "ihb":
+        raise InputError("the truncation check is for harmonic-balance (ihb) branches, not "
+                         f"{branch.solutions[0].method} ones")
     H = (branch.solutions[0].harmonics.shape[0] - 1) // 2
     H2 = H + 4 if harmonics is None else int(harmonics)
     if H2 <= H:
@@ -84,6 +96,10 @@ def _check(sp: SpecialPoint, branch: Branch, system, H2: int, defect_tol: float,
     if defect <= defect_tol:
         return replace(sp, defect=defect, confirmed=None,
                        check=f"resolved: orbit defect {defect:.2g} <= {defect_tol:g} at H = {H}")
+    if branch.parameter_name is not None:
+        return replace(sp, defect=defect, confirmed=False,
+                       check=f"unresolved: orbit defect {defect:.2g} > {defect_tol:g} at H = {H} (the re-solve "
+                             f"with more harmonics follows omega, not {branch.parameter_name}): raise the harmonics")
     lo, hi = sp.omega * (1 - window), sp.omega * (1 + window)
     try:
         branches = _local_branches(system, sp, branch, (lo, hi), H2)
