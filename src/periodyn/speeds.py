@@ -231,7 +231,8 @@ class SpeedSolver:
         M = (H - 1) // 2
         harmonics = spectrum[:, M - self.m: M + self.m + 1]
         if self.stability:
-            exps, message, methods = self.speed_stability.solve(w)
+            finite = np.isfinite(q).reshape(S, -1).all(axis=1) & np.isfinite(half).reshape(S, -1).all(axis=1)
+            exps, message, methods = self.speed_stability.solve(w, (balance_message == "") & finite)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
             stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
