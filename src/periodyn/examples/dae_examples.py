@@ -22,25 +22,11 @@ import numpy as np
 from ..dae import DAE
 from ..errors import InputError
 from ..model.rigid2d import PlanarSystem
+from ._arguments import require_physical as _check
 
 __all__ = ["rod_pendulum", "inverted_pendulum", "slider_rod_pendulum", "slider_chain_pendulum", "duffing"]
 
 G = 9.81
-
-
-def _check(builder: str, positive: dict, non_negative: dict, finite: dict) -> None:
-    """Refuse builder arguments that would build another system: ``positive`` (lengths,
-    masses, frequencies) finite and > 0, ``non_negative`` (stiffnesses, dampings, gravity)
-    finite and >= 0, ``finite`` (load amplitudes) finite; the message names the argument."""
-    for rule, values, test in (("finite and > 0", positive, lambda v: v > 0),
-                               ("finite and >= 0", non_negative, lambda v: v >= 0),
-                               ("finite", finite, lambda v: True)):
-        for name, value in values.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-                    or not (np.isfinite(value) and test(value)):
-                raise InputError(f"{builder}: {name} must be {rule} (a real number in SI units), got {value!r}; "
-                                 "a negative length or mass would be solved as another system (e.g. an inverted "
-                                 "pendulum)")
 
 
 def rod_pendulum(m1: float = 1.0, l: float = 1.0, eps1: float = 0.04, f: float = 0.15, g: float = G) -> DAE:

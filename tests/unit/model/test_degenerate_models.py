@@ -12,7 +12,9 @@ import pytest
 import periodyn
 from periodyn.errors import InputError
 from periodyn.examples import inverted_pendulum, rod_pendulum, slider_chain_pendulum, slider_rod_pendulum
+from periodyn.examples.chain import parametric_chain
 from periodyn.examples.dae_examples import duffing
+from periodyn.examples.pendulum_equation import pendulum_nonlinear
 from periodyn.model import Model
 from periodyn.studies.spec import parse_sweep
 
@@ -57,6 +59,7 @@ def test_degenerate_elements_are_refused_by_the_builder():
     (slider_rod_pendulum, {"m2": -0.5}, "m2"), (slider_rod_pendulum, {"k1": "stiff"}, "k1"),
     (slider_chain_pendulum, {"l": 0.0}, "l"), (slider_chain_pendulum, {"m": -0.025}, "m"),
     (duffing, {"omega0": 0.0}, "omega0"), (duffing, {"zeta": -0.05}, "zeta"),
+    (pendulum_nonlinear, {"length": -1.0}, "length"), (parametric_chain, {"mass": 0.0}, "mass"),
 ])
 def test_dae_builders_refuse_non_physical_arguments(builder, kwargs, name):
     with pytest.raises(InputError, match=rf"{builder.__name__}: {name} must be"):
