@@ -114,13 +114,12 @@ class Model(SpatialBuilder, OutputBuilder):
             raise InputError(f"{what} has zero length: points '{points[0]}' and '{points[1]}' are both at "
                              f"{self.points[points[0]]} m; place them apart")
         for prop in ("EA", "EI", "mass_per_length", "kelvin_voigt", "rotary_inertia_per_length"):
-            value = getattr(element, prop, 0.0)
-            if not (np.isfinite(value) and value >= 0):
-                raise InputError(f"{what}: {prop} must be finite and >= 0, got {value!r}")
+            value = np.asarray(getattr(element, prop, 0.0), dtype=float)  # kelvin_voigt may be one per mode
+            if not (np.isfinite(value).all() and (value >= 0).all()):
+                raise InputError(f"{what}: {prop} must be finite and >= 0, got {getattr(element, prop)!r}")
         for prop in ("stiffness", "damping", "torque", "rotational_stiffness", "rotational_damping"):
-            value = getattr(element, prop, 0.0)
-            if not np.isfinite(value):
-                raise InputError(f"{what}: {prop} must be finite, got {value!r}")
+            if not np.isfinite(np.asarray(getattr(element, prop, 0.0), dtype=float)).all():
+                raise InputError(f"{what}: {prop} must be finite, got {getattr(element, prop)!r}")
 
     def add_beam(self, name: str, points: tuple[str, str], angles: tuple[str, str], *, modes=None,
                  EA: float = 0.0, EI: float = 0.0, mass_per_length: float = 0.0,
