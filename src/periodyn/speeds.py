@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ConvergenceError, InputError
-from .stability.floquet import FloquetExponents, is_stable
+from .stability.floquet import TRUNCATION_TOL, FloquetExponents, is_stable, truncation_message
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import periodic_solution
@@ -67,12 +67,16 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool | str = True
     """Harmonic balance and, with ``stability`` (True = "auto", False, or a stability method
     of :mod:`periodyn.stability.methods`), the characteristic exponents (as in
     :func:`periodyn.characteristic_exponents`) for one rheo-linear system. ``method=``:
-    deprecated name of the stability method."""
+    deprecated name of the stability method. A Hill verdict above the truncation tolerance
+    raises ConvergenceError (increase harmonics)."""
     m = check_harmonics(harmonics)
     stability, method = stability_choice(stability, method, "solve_point")
     op = HarmonicOperator.for_system(system, m, form).at(system.omega)
     sol = periodic_solution(system, m, form=form, operator=op)
-    return _point(sol, method_named(method).exponents(system, op) if stability else None, system.n)
+    fl = method_named(method).exponents(system, op) if stability else None
+    if fl is not None and fl.truncation > TRUNCATION_TOL:  # as a sweep's failed point (SpeedSolver.solve)
+        raise ConvergenceError(truncation_message(fl.truncation, m, fl.omega, fl.method))
+    return _point(sol, fl, system.n)
 
 
 @dataclass(frozen=True, eq=False)

@@ -79,3 +79,13 @@ def test_a_sweep_records_the_truncated_point_as_failed(model):
     with pytest.warns(TruncationWarning):
         ds = sweep(model, np.array([OMEGA]), 2, stability="dense", progress=False)
     assert ds["status"].values[0] == STATUS_FAILED and "truncated" in str(ds["message"].values[0])
+
+
+def test_solve_point_refuses_the_truncated_verdict_as_the_speed_solver_does(model):
+    from periodyn.speeds import solve_point
+
+    with pytest.raises(ConvergenceError, match="truncated"):
+        solve_point(model.at(OMEGA), 2, stability="dense")
+    with pytest.raises(ConvergenceError, match="truncated"), pytest.warns(TruncationWarning):
+        SpeedSolver(model, 2, stability="dense").solve(OMEGA)
+    assert not solve_point(model.at(OMEGA), 8, stability="dense").stable
