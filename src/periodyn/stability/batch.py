@@ -105,7 +105,10 @@ class SpeedStability:
 
     def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n), messages (S,) and Hill truncation indicators (S,) (NaN without Hill)."""
-        return entry.batch(self, w) if entry.batch is not None else self.one_by_one(entry, w)
+        if entry.batch is None:
+            return self.one_by_one(entry, w)
+        out = entry.batch(self, w)
+        return out if len(out) == 3 else (*out, np.full(w.size, np.nan))
 
     def one_by_one(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n), messages (S,) and truncation indicators (S,) (the largest Hill

@@ -45,8 +45,8 @@ class StabilityMethod:
     choose(stage, w) -> (names (S,), reasons (S,), exponents (S, 2n), solved (S,)): a method
     that hands each speed w (S,) rad/s to another one (``delegates``) or solves it itself.
     prepare(model) -> per-model data kept by a sweep (``stage.prepared(name)``).
-    batch(stage, w) -> (exponents (S, 2n), messages (S,), truncation indicators (S,), NaN
-    without Hill): a chunk of speeds at once.
+    batch(stage, w) -> (exponents (S, 2n), messages (S,)[, Hill truncation indicators (S,)]):
+    a chunk of speeds at once.
     sweep_cost(stage, w, base) -> estimated seconds (S,) of a speed whose harmonic balance
     costs ``base`` s. cost(pattern, n, shifts) -> estimated seconds at one speed (the Hill
     methods, compared by the auto rule). rule: how it chooses per point, recorded with a sweep.
@@ -269,8 +269,7 @@ for _method in (
         StabilityMethod("magnus", "fixed-step 4th-order Magnus monodromy",
                         lambda system, op, steps=None: monodromy_exponents(system, "magnus", steps), system=True,
                         prepare=sweep_terms,
-                        batch=lambda stage, w: (*sweep_exponents(stage.prepared("magnus"), w, stage.n),
-                                                np.full(w.size, np.nan))),
+                        batch=lambda stage, w: sweep_exponents(stage.prepared("magnus"), w, stage.n)),
         StabilityMethod("hill", "dense or sparse Hill, whichever is estimated cheaper", _hill_rule("hill"),
                         operator=True, choose=_hill_choices, delegates=("dense", "sparse"),
                         rule=f"hill: {_HILL_RULE}")):
