@@ -26,6 +26,7 @@ _PUBLIC = {
     # methods
     "periodic_solution": "harmonic.balance", "AliasingWarning": "harmonic.operator",
     "characteristic_exponents": "stability.methods", "hill_exponents": "stability.methods",
+    "TruncationWarning": "stability.floquet",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",
     "ihb": "nonlinear.ihb_solver", "shooting": "nonlinear.shooting_solver", "element_outputs": "nonlinear.elements",
     "solve_point": "speeds", "campbell": "rotor.diagram",

@@ -116,6 +116,18 @@ class DAE:
         return f"DAE(name={self.name!r}, n={self.n}, m={self.m}, parameters={self.parameters})"
 
 
+def _finite_real(name: str, value, shape=lambda a: a) -> np.ndarray:
+    """``shape(value)`` as a float array; InputError naming ``name`` when it is complex,
+    not numeric, or has NaN or inf entries (they would be solved as another system)."""
+    a = np.asarray(value)
+    if np.iscomplexobj(a) or a.dtype == bool or not np.issubdtype(a.dtype, np.number):
+        raise InputError(f"{name} must be a real numeric array, got {a.dtype} values: {value!r}")
+    a = shape(a.astype(float))
+    if not np.isfinite(a).all():
+        raise InputError(f"{name} has NaN or inf entries: {a!r}; every entry must be a finite number (SI units)")
+    return a
+
+
 def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_jacobian=None,
               constraint_jacobian=None, constraint_hessian=None, constraint_rates=None,
               mass_jacobian=None, parameters: Mapping[str, float] | None = None, q0=None,
@@ -154,11 +166,16 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
                 raise InputError("with a callable mass give n= or q0= so the number of coordinates is known")
             n = len(np.atleast_1d(q0))
     else:
-        M = np.atleast_2d(np.asarray(mass, dtype=float))
-        if M.ndim != 2 or M.shape[0] != M.shape[1]:
-            raise InputError(f"mass must be a square (n,n) array or a callable of q, got shape {np.shape(mass)}")
+        M = _finite_real("mass", mass, np.atleast_2d)
+        if M.ndim != 2 or M.shape[0] != M.shape[1] or M.shape[0] == 0:
+            raise InputError(f"mass must be a square (n,n) array (n >= 1) or a callable of q, got shape "
+                             f"{np.shape(mass)}")
         n = M.shape[0]
-    q0a = np.zeros(n) if q0 is None else np.asarray(q0, dtype=float).reshape(n)
+    q0a = np.zeros(n) if q0 is None else _finite_real("q0", q0, np.atleast_1d)
+    if q0a.shape != (n,):
+        raise InputError(f"q0 must have the {n} coordinates of the mass matrix, got shape {q0a.shape}")
+    if callable(mass):
+        _finite_real("mass(q0)", mass(q0a), lambda a: a.reshape(n, n) if a.size == n * n else a)
     if not callable(force):
         raise InputError("force must be a callable force(q, qd, t, omega) returning an (n,) array")
 

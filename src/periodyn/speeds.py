@@ -10,12 +10,13 @@ solves and eigen-solves, and jitted kernels (:class:`SpeedBatch` holds the colum
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import ConvergenceError, InputError
-from .stability.floquet import FloquetExponents, is_stable
+from .stability.floquet import TRUNCATION_TOL, FloquetExponents, TruncationWarning, is_stable, truncation_message
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import periodic_solution
@@ -67,12 +68,16 @@ def solve_point(system: RheoLinear, harmonics: int, stability: bool | str = True
     """Harmonic balance and, with ``stability`` (True = "auto", False, or a stability method
     of :mod:`periodyn.stability.methods`), the characteristic exponents (as in
     :func:`periodyn.characteristic_exponents`) for one rheo-linear system. ``method=``:
-    deprecated name of the stability method."""
+    deprecated name of the stability method. A Hill verdict above the truncation tolerance
+    raises ConvergenceError (increase harmonics)."""
     m = check_harmonics(harmonics)
     stability, method = stability_choice(stability, method, "solve_point")
     op = HarmonicOperator.for_system(system, m, form).at(system.omega)
     sol = periodic_solution(system, m, form=form, operator=op)
-    return _point(sol, method_named(method).exponents(system, op) if stability else None, system.n)
+    fl = method_named(method).exponents(system, op) if stability else None
+    if fl is not None and fl.truncation > TRUNCATION_TOL:  # as a sweep's failed point (SpeedSolver.solve)
+        raise ConvergenceError(truncation_message(fl.truncation, m, fl.omega, fl.method))
+    return _point(sol, fl, system.n)
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,7 +236,8 @@ class SpeedSolver:
         M = (H - 1) // 2
         harmonics = spectrum[:, M - self.m: M + self.m + 1]
         if self.stability:
-            exps, message, methods = self.speed_stability.solve(w)
+            finite = np.isfinite(q).reshape(S, -1).all(axis=1) & np.isfinite(half).reshape(S, -1).all(axis=1)
+            exps, message, methods = self.speed_stability.solve(w, (balance_message == "") & finite)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
             stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
@@ -273,5 +279,7 @@ def warm_up() -> None:
     theta = 2 * np.pi * np.arange(p) / p
     model = OmegaSplitModel.from_samples(np.ones((p, 1, 1)), [np.full((p, 1, 1), 0.1)],
                                          [(1.0 + 0.2 * np.cos(theta))[:, None, None]], [np.cos(theta)[:, None]])
-    for method in ("dense", "magnus", "auto"):
-        SpeedSolver(model, 2, stability=method).solve_many([0.7])
+    with warnings.catch_warnings():  # only the kernels matter here: m = 2 truncates this model's exponents
+        warnings.simplefilter("ignore", TruncationWarning)
+        for method in ("dense", "magnus", "auto"):
+            SpeedSolver(model, 2, stability=method).solve_many([0.7])

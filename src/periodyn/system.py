@@ -47,18 +47,32 @@ def _check_omega(omega) -> float:
     return w
 
 
-def _as_samples(name: str, value, p: int | None, n: int | None, vector: bool) -> np.ndarray:
-    """Validate one coefficient series: (p,n,n) or (p,n); constants (n,n)/(n,) are broadcast."""
+def _real(name: str, value) -> np.ndarray:
+    """``value`` as a float array; InputError for a complex or non-numeric one (a complex
+    coefficient would lose its imaginary part silently)."""
     try:
-        a = np.asarray(value, dtype=float)
+        a = np.asarray(value)
+        real = None if np.iscomplexobj(a) else np.asarray(a, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a real numeric array, got {type(value).__name__}") from None
+    if real is None:
+        raise InputError(f"{name} must be real, got complex values (their imaginary part would be dropped); "
+                         "give the real coefficients of the equations of motion")
+    return real
+
+
+def _as_samples(name: str, value, p: int | None, n: int | None, vector: bool) -> np.ndarray:
+    """Validate one coefficient series: (p,n,n) or (p,n); constants (n,n)/(n,) are broadcast."""
+    a = _real(name, value)
     ndim = 2 if vector else 3
     if p is not None and a.ndim == ndim - 1:
         a = np.broadcast_to(a, (p,) + a.shape)
     if a.ndim != ndim:
         want = "(p, n)" if vector else "(p, n, n)"
         raise InputError(f"{name} must have shape {want} (samples first), got shape {a.shape}")
+    if 0 in a.shape:
+        raise InputError(f"{name} has shape {a.shape}: it needs at least one sample and one coordinate "
+                         "(samples first, e.g. (p, n, n) with p >= 1, n >= 1)")
     if p is not None and a.shape[0] != p:
         raise InputError(f"{name} has {a.shape[0]} samples but the mass matrix has {p}; give every series the same sample count")
     if not vector and a.shape[1] != a.shape[2]:
@@ -213,7 +227,7 @@ class RheoLinear(_Sampled):
                 raise InputError(f"{name} must be a callable of time t returning an array, got {type(fun).__name__}")
             vals = []
             for tj in t:
-                v = np.asarray(fun(float(tj)), dtype=float)
+                v = _real(f"{name}(t)", fun(float(tj)))
                 vals.append(v.reshape(1) if (vector and v.ndim == 0) else v.reshape(1, 1) if v.ndim == 0 else v)
             return np.stack(vals)
 
@@ -274,7 +288,7 @@ class OmegaSplitModel(_Sampled):
         theta = sample_angles(p)
 
         def sample(fun, vector):
-            vals = [np.asarray(fun(float(th)), dtype=float) for th in theta]
+            vals = [_real("a coefficient function's value", fun(float(th))) for th in theta]
             v = np.stack(vals)
             if v.ndim == 1:
                 v = v.reshape((p, 1) if vector else (p, 1, 1))

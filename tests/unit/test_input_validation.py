@@ -86,3 +86,23 @@ def test_unknown_options():
         periodyn.characteristic_exponents(sys, 2, method="qr")
     with pytest.raises(InputError, match="callable"):
         periodyn.RheoLinear.from_functions(np.eye(2), lambda t: 0, lambda t: 0, lambda t: 0, 1.0, 8)
+
+
+def test_complex_coefficients_are_refused_not_truncated():
+    """A complex mass used to lose its imaginary part silently."""
+    M, C, K, f = ok()
+    with pytest.raises(InputError, match="M must be real, got complex"):
+        periodyn.RheoLinear.from_samples(M * (1 + 0.5j), C, K, f, 1.0)
+    with pytest.raises(InputError, match="must be real, got complex"):
+        periodyn.RheoLinear.from_functions(lambda t: 1.0 + 1j, lambda t: 0.0, lambda t: 1.0, lambda t: 0.0, 1.0, 8)
+    with pytest.raises(InputError, match=r"damping\[omega\^0\] must be real"):
+        periodyn.OmegaSplitModel.from_samples(M, [C + 1j], [K], [f])
+
+
+def test_empty_coefficient_arrays_are_refused():
+    with pytest.raises(InputError, match="at least one sample"):
+        periodyn.RheoLinear.from_samples(*ok(p=0), 1.0)
+    with pytest.raises(InputError, match="at least one sample and one coordinate"):
+        periodyn.RheoLinear.from_samples(*ok(n=0), 1.0)
+    with pytest.raises(InputError, match="at least one sample"):
+        periodyn.OmegaSplitModel.from_samples(np.zeros((0, 1, 1)), [], [], [])

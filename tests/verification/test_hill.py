@@ -8,6 +8,7 @@ from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
 import periodyn
+from periodyn import TruncationWarning
 
 from ..conftest import assert_same_spectrum, mathieu, two_dof_parametric
 
@@ -91,9 +92,12 @@ def test_edge_energy_indicates_truncation_error():
     truncation edge and the exponents are wrong; the edge indicator says so."""
     sys = mathieu(a=1.0, q=4.0, zeta=0.01, samples=64)
     mono = periodyn.characteristic_exponents(sys, 0, "monodromy")
-    coarse = periodyn.characteristic_exponents(sys, 2, "dense")
+    with pytest.raises(periodyn.ConvergenceError, match="truncated"):
+        periodyn.characteristic_exponents(sys, 2, "dense")
+    with pytest.warns(TruncationWarning, match="harmonics = 2"):
+        coarse = periodyn.characteristic_exponents(sys, 2, "dense", truncation="warn")
     fine = periodyn.characteristic_exponents(sys, 20, "dense")
-    assert coarse.edge.max() > 1e-3
+    assert coarse.edge.max() == coarse.truncation > 1e-3
     assert fine.edge.max() < 1e-12
     assert_same_spectrum(fine.multipliers, mono.multipliers, atol=1e-8)
     assert np.abs(np.sort(coarse.exponents.real) - np.sort(mono.exponents.real)).max() > 1e-3

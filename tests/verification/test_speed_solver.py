@@ -193,9 +193,9 @@ def test_dense_hill_beyond_the_terms_budget_goes_speed_by_speed(monkeypatch):
 
     model = periodyn.examples.slider_crank(damping=0.02, samples=32)
     speeds = np.array([150.0, 220.0, 300.0])
-    stacked = SpeedSolver(model, 6, method="dense").solve_many(speeds)
+    stacked = SpeedSolver(model, 12, method="dense").solve_many(speeds)
     monkeypatch.setattr(batch, "DENSE_TERMS_BYTES", 0.0)
-    solver = SpeedSolver(model, 6, method="dense")
+    solver = SpeedSolver(model, 12, method="dense")
     one_by_one = solver.solve_many(speeds)
     assert not solver.dense_hill and "real_first_order_terms" not in solver.harmonic.__dict__
     assert (one_by_one.message == "").all()

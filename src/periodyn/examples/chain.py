@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ._arguments import require_physical
 from ..system import OmegaSplitModel
 
 __all__ = ["parametric_chain"]
@@ -21,6 +22,11 @@ def parametric_chain(n: int = 10, *, mass: float = 1.0, stiffness: float = 1.0e4
     pi/(n+1) sqrt(k/m) ... highest about 2 sqrt(k/m) rad/s. Output: each mass displacement."""
     if not isinstance(n, (int, np.integer)) or n < 1:
         raise InputError(f"chain needs n >= 1 masses, got {n!r}")
+    require_physical("parametric_chain", {"mass": mass, "stiffness": stiffness}, {"damping": damping},
+                     {"eps": eps, "mass_variation": mass_variation})
+    if not abs(mass_variation) < 1:
+        raise InputError(f"parametric_chain: mass_variation must be in (-1, 1) so every mass stays positive, got "
+                         f"{mass_variation!r}")
     phases = 2 * np.pi * np.arange(n + 1) / (n + 1)
 
     def K(theta):

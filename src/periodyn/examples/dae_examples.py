@@ -20,7 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..dae import DAE
+from ..errors import InputError
 from ..model.rigid2d import PlanarSystem
+from ._arguments import require_physical as _check
 
 __all__ = ["rod_pendulum", "inverted_pendulum", "slider_rod_pendulum", "slider_chain_pendulum", "duffing"]
 
@@ -31,6 +33,7 @@ def rod_pendulum(m1: float = 1.0, l: float = 1.0, eps1: float = 0.04, f: float =
     """Rod pinned at its end (eqs. 61-62): m1 kg, l m, viscous torque eps1 N m s/rad,
     torque f cos(w t) N m (parameter "f"). Hanging rest position phi = -pi/2;
     small-swing frequency sqrt(3 g / (2 l)) = 3.84 rad/s with the defaults."""
+    _check("rod_pendulum", {"m1": m1, "l": l}, {"eps1": eps1, "g": g}, {"f": f})
     s = PlanarSystem(g, "rod_pendulum")
     s.add_parameter("f", f)
     b = s.add_body(m1, m1 * l * l / 12, "rod")
@@ -47,6 +50,7 @@ def inverted_pendulum(m1: float = 1.0, l: float = 1.0, eps: float = 0.05, kappa:
     (parameter "p", m), cubic torsional spring kappa (pi/2 - phi)^3 (N m/rad^3) holding the
     rod against gravity, viscous torque eps N m s/rad. The upright position is unstable;
     the rest positions are the two tilted equilibria, q0 the one with phi > pi/2."""
+    _check("inverted_pendulum", {"m1": m1, "l": l, "kappa": kappa, "g": g}, {"eps": eps}, {"p": p})
     s = PlanarSystem(g, "inverted_pendulum")
     s.add_parameter("p", p)
     b = s.add_body(m1, m1 * l * l / 12, "rod")
@@ -66,6 +70,8 @@ def slider_rod_pendulum(m1: float = 1.0, m2: float = 0.5, l: float = 0.5, k1: fl
     """Slider on a horizontal line with a hanging rod (eqs. 65-69): slider m1 kg on spring
     k1 N/m, damper c1 N s/m, force f cos(w t) N (parameter "f"); rod m2 kg, l m pinned to
     the slider, torsional spring k2 N m/rad to the hanging position, damper c2 N m s/rad."""
+    _check("slider_rod_pendulum", {"m1": m1, "m2": m2, "l": l}, {"k1": k1, "c1": c1, "k2": k2, "c2": c2, "g": g},
+           {"f": f})
     s = PlanarSystem(g, "slider_rod_pendulum")
     s.add_parameter("f", f)
     b1 = s.add_body(m1, None, "slider")
@@ -87,6 +93,11 @@ def slider_chain_pendulum(n_rods: int = 40, m1: float = 1.0, m: float = 0.025, l
     "p"); rods m kg, l m, torsional springs kappa_hat N m/rad and dampers eps_hat
     N m s/rad from rod 2 to the hanging direction and between neighbouring rods. Forces
     follow the energies (71)-(72) (see the module docstring for the sign corrections)."""
+    if isinstance(n_rods, bool) or not isinstance(n_rods, (int, np.integer)) or n_rods < 1:
+        raise InputError(f"slider_chain_pendulum: n_rods must be an integer >= 1 (the number of rods of the chain), "
+                         f"got {n_rods!r}")
+    _check("slider_chain_pendulum", {"m1": m1, "m": m, "l": l},
+           {"kappa1": kappa1, "eps1": eps1, "kappa_hat": kappa_hat, "eps_hat": eps_hat, "g": g}, {"p": p})
     s = PlanarSystem(g, "slider_chain_pendulum")
     s.add_parameter("p", p)
     b1 = s.add_body(m1, None, "slider")
@@ -109,6 +120,7 @@ def slider_chain_pendulum(n_rods: int = 40, m1: float = 1.0, m: float = 0.025, l
 def duffing(zeta: float = 0.05, alpha: float = 1.0, F: float = 0.1, omega0: float = 1.0) -> DAE:
     """Forced Duffing oscillator ``x'' + 2 zeta omega0 x' + omega0^2 x + alpha x^3 = F cos(w t)``
     (unit mass) as a constraint-free ``periodyn.DAE`` with analytic Jacobians; parameter "F"."""
+    _check("duffing", {"omega0": omega0}, {"zeta": zeta}, {"alpha": alpha, "F": F})
 
     def force(q, qd, t, w, P):
         return np.array([-2 * zeta * omega0 * qd[0] - omega0 ** 2 * q[0] - alpha * q[0] ** 3 + P["F"] * np.cos(w * t)])

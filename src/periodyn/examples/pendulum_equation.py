@@ -53,6 +53,10 @@ def pendulum_nonlinear(*, length: float = 1.0, radius: float = 0.5, eccentricity
 
     for shooting / continuation against the linearized eq. (29) (``pendulum``)."""
     from ..dae import DAE
+    from ._arguments import require_physical
+
+    require_physical("pendulum_nonlinear", {"length": length, "radius": radius, "g": g}, {"zeta": zeta},
+                     {"eccentricity": eccentricity})
 
     w0 = np.sqrt(g / length)
     rho = radius / length

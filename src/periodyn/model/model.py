@@ -96,8 +96,30 @@ class Model(SpatialBuilder, OutputBuilder):
                              "carries the node's name); element names must be unique")
         for c in element.coordinates():
             self._check_coordinate(c, f"element '{element.name}'")
+        self._check_degenerate(element)
         self.elements.append(element)
         return element.name
+
+    def _check_degenerate(self, element) -> None:
+        """Refuse an element joining a node to itself, one of zero length, and negative or
+        non-finite section properties (they would be solved as another system)."""
+        what = f"element '{element.name}'"
+        for field_name in ("points", "angles", "orientations"):
+            nodes = getattr(element, field_name, None)
+            if nodes is not None and len(set(nodes)) < len(nodes):
+                raise InputError(f"{what} joins {field_name[:-1]} node '{nodes[0]}' to itself; an element connects "
+                                 f"two different nodes: name the other one in {field_name}")
+        points = getattr(element, "points", None)
+        if points is not None and np.allclose(self.points[points[0]], self.points[points[1]], rtol=0.0, atol=0.0):
+            raise InputError(f"{what} has zero length: points '{points[0]}' and '{points[1]}' are both at "
+                             f"{self.points[points[0]]} m; place them apart")
+        for prop in ("EA", "EI", "mass_per_length", "kelvin_voigt", "rotary_inertia_per_length"):
+            value = np.asarray(getattr(element, prop, 0.0), dtype=float)  # kelvin_voigt may be one per mode
+            if not (np.isfinite(value).all() and (value >= 0).all()):
+                raise InputError(f"{what}: {prop} must be finite and >= 0, got {getattr(element, prop)!r}")
+        for prop in ("stiffness", "damping", "torque", "rotational_stiffness", "rotational_damping"):
+            if not np.isfinite(np.asarray(getattr(element, prop, 0.0), dtype=float)).all():
+                raise InputError(f"{what}: {prop} must be finite, got {getattr(element, prop)!r}")
 
     def add_beam(self, name: str, points: tuple[str, str], angles: tuple[str, str], *, modes=None,
                  EA: float = 0.0, EI: float = 0.0, mass_per_length: float = 0.0,

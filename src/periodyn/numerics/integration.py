@@ -109,10 +109,18 @@ def solve(rhs, t_span, y0, *, t_eval=None, rtol=1e-10, atol=1e-12, method="DOP85
         raise InputError(f"jac= is used only by the implicit methods {_IMPLICIT}, not by {method!r}; "
                          "drop jac or choose method='Radau'")
     extra = {} if jac is None else {"jac": jac}
-    sol = solve_ivp(rhs, t_span, y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, max_step=max_step, **extra)
-    if sol.status != 0:
-        raise ConvergenceError(f"time integration failed at t={sol.t[-1]:.6g} s: {sol.message}; "
-                               "lower the tolerances or check the model", float("nan"), int(sol.nfev))
+    reached = [float(t_span[0])]  # the last time the right-hand side was evaluated at
+
+    def tracked(t, y):
+        reached[0] = t
+        return rhs(t, y)
+
+    sol = solve_ivp(tracked, t_span, y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, max_step=max_step,
+                    **extra)
+    if sol.status != 0:  # with t_eval, sol.t holds only the output times reached (possibly none)
+        raise ConvergenceError(f"time integration failed near t={reached[0]:.6g} s (of {t_span[0]:.6g} to "
+                               f"{t_span[1]:.6g} s): {sol.message}; lower the tolerances or check the model",
+                               float("nan"), int(sol.nfev))
     return sol
 
 

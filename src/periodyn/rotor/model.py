@@ -138,6 +138,14 @@ class Rotor:
     name: str = "rotor"
     sections: list[ShaftSection] = field(default_factory=list)
     parts: list = field(default_factory=list)
+    length_unit: float = 1.0  # metres per length unit of the input (a rotor file's [units] length), for messages
+
+    def _length(self, x) -> str:
+        """Axial position(s) x (m) as the input gave them: in m, or in its length unit with m after."""
+        scaled = np.round(np.asarray(x, float) / self.length_unit, 6).tolist()
+        if self.length_unit == 1.0:
+            return f"{scaled} m"
+        return f"{scaled} (file length units of {self.length_unit:g} m; {np.round(np.asarray(x, float), 6).tolist()} m)"
 
     def add_shaft(self, start: float, end: float, *, outer_diameter: float, E: float, density: float,
                   elements: int = 1, inner_diameter: float = 0.0, rotary_inertia: bool = True,
@@ -171,7 +179,7 @@ class Rotor:
         for a, b in zip(sections, sections[1:]):
             if abs(a.end - b.start) > tol:
                 raise InputError(f"rotor '{self.name}': shaft sections must join end to end, but one ends at "
-                                 f"{a.end} m and the next starts at {b.start} m")
+                                 f"{self._length(a.end)} and the next starts at {self._length(b.start)}")
         x = [sections[0].start]
         for sec in sections:
             x.extend(np.linspace(sec.start, sec.end, sec.elements + 1)[1:])
@@ -182,8 +190,8 @@ class Rotor:
         names the part in the error when no station is there."""
         i = int(np.argmin(np.abs(x - at)))
         if abs(x[i] - at) > 1e-9 * max(1.0, float(np.ptp(x))):
-            raise InputError(f"rotor '{self.name}': {what} at {at} m is not on a station; stations are at "
-                             f"{np.round(x, 6).tolist()} m (split the shaft so that a station falls there)")
+            raise InputError(f"rotor '{self.name}': {what} at {self._length(at)} is not on a station; stations are "
+                             f"at {self._length(x)} (split the shaft so that a station falls there)")
         return i
 
     def compile(self) -> RotorModel:

@@ -10,12 +10,15 @@ exponents and a message, never a result.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import ConvergenceError
 from ..harmonic.batch_balance import DENSE_TERMS_BYTES
 from ..harmonic.operator import HarmonicOperator
 from ..system import OmegaSplitModel
+from .floquet import TRUNCATION_TOL, TruncationWarning, truncation_message
 from .hill import dense_exponents_batch
 from .methods import StabilityMethod, hill_costs_many, method_named
 
@@ -72,14 +75,17 @@ class SpeedStability:
             return np.full(w.size, base)
         return self.method.sweep_cost(self, w, base)
 
-    def solve(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def solve(self, w: np.ndarray, judged: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
-        (S,) at speeds w."""
+        (S,) at speeds w. A Hill result whose truncation indicator is above TRUNCATION_TOL
+        fails with a message and a TruncationWarning where ``judged`` (S,) (default: all; a
+        sweep leaves out speeds whose periodic solution failed already)."""
         names, _, exps, solved = self.choose(w)
         message = np.full(w.size, "", dtype=object)
+        edge = np.full(w.size, np.nan)
         for name in dict.fromkeys(names[~solved]):
             group = np.nonzero((names == name) & ~solved)[0]
-            exps[group], message[group] = self._group(method_named(name), w[group])
+            exps[group], message[group], edge[group] = self._group(method_named(name), w[group])
         # the multiplier exp(lambda T) must be a number: Re(lambda) T above the double range is no exponent
         growth = exps.real.max(axis=1) * (2 * np.pi / w)
         for i in np.nonzero((message == "") & (growth > _EXP_MAX))[0]:
@@ -87,32 +93,51 @@ class SpeedStability:
             message[i] = (f"an exponent at omega = {w[i]:.6g} rad/s has Re(lambda) T = {growth[i]:.3g}, beyond the "
                           "range of the multiplier exp(lambda T): the model's coefficients are out of the range the "
                           "solver resolves (rescale it or add harmonics)")
+        judged = np.ones(w.size, dtype=bool) if judged is None else judged
+        truncated = np.nonzero((message == "") & judged & (edge > TRUNCATION_TOL))[0]
+        for i in truncated:  # a Hill verdict that more harmonics could change is a failed point, never silent
+            exps[i] = np.nan
+            message[i] = truncation_message(edge[i], self.m, w[i], names[i])
+        if truncated.size:
+            warnings.warn(f"{truncated.size} of {w.size} speeds failed: {message[truncated[0]]}", TruncationWarning,
+                          stacklevel=3)
         return exps, message, names
 
-    def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return entry.batch(self, w) if entry.batch is not None else self.one_by_one(entry, w)
+    def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Exponents (S, 2n), messages (S,) and Hill truncation indicators (S,) (NaN without Hill)."""
+        if entry.batch is None:
+            return self.one_by_one(entry, w)
+        out = entry.batch(self, w)
+        return out if len(out) == 3 else (*out, np.full(w.size, np.nan))
 
-    def one_by_one(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Exponents (S, 2n) and messages (S,) speed by speed through the scalar entry point."""
+    def one_by_one(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Exponents (S, 2n), messages (S,) and truncation indicators (S,) (the largest Hill
+        edge energy fraction, NaN without Hill) speed by speed through the scalar entry point."""
         exps = np.full((w.size, 2 * self.n), np.nan + 0j)
         message = np.full(w.size, "", dtype=object)
+        edge = np.full(w.size, np.nan)
         for i in range(w.size):
             try:
-                exps[i] = entry.exponents(self.model.at(w[i]) if entry.system else None,
-                                          self.harmonic.at(w[i]) if entry.operator else None).exponents
+                result = entry.exponents(self.model.at(w[i]) if entry.system else None,
+                                         self.harmonic.at(w[i]) if entry.operator else None)
             except ConvergenceError as exc:
                 message[i] = str(exc) or type(exc).__name__
-        return exps, message
+            else:
+                exps[i], edge[i] = result.exponents, result.truncation
+        return exps, message, edge
 
-    def dense_batch(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Dense Hill at speeds w: one stacked LAPACK call where the terms fit (``dense_hill``)."""
+    def dense_batch(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Dense Hill at speeds w: one stacked LAPACK call where the terms fit (``dense_hill``);
+        exponents (S, 2n), messages (S,) and truncation indicators (S,)."""
         if not self.dense_hill:
             return self.one_by_one(method_named("dense"), w)
         m, n = self.m, self.n
-        exps, _, found = dense_exponents_batch(self.harmonic.real_first_order_many(w), w, m, n)
+        exps, edges, found = dense_exponents_batch(self.harmonic.real_first_order_many(w), w, m, n)
         message = np.full(w.size, "", dtype=object)
         for i in np.nonzero(found < 2 * n)[0]:
             exps[i] = np.nan
             message[i] = (f"Hill's method with m = {m} resolved {found[i]} of {2 * n} exponent "
                           f"clusters at omega = {w[i]:.6g} rad/s; increase harmonics")
-        return exps, message
+        with np.errstate(invalid="ignore"):
+            edge = np.where(np.isfinite(edges), edges, -np.inf).max(axis=1)
+        return exps, message, np.where(edge == -np.inf, np.nan, edge)

@@ -41,12 +41,14 @@ def crossing_type(exps: FloquetExponents, tol: float = 1e-3) -> str:
 
 
 def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.ndarray, harmonics: int,
-                         method: str = "auto", xtol: float = 1e-10) -> list[StabilityBoundary]:
+                         method: str = "auto", xtol: float = 1e-10,
+                         truncation: str = "refuse") -> list[StabilityBoundary]:
     """Boundaries within a speed grid: each sign change of max Re(lambda) between grid
     neighbours is refined by Brent's method to ``xtol`` (relative to omega).
 
     system_at: omega -> RheoLinear (e.g. ``model.at``); omega: increasing grid, rad/s;
-    method: a stability method of :mod:`periodyn.stability.methods`.
+    method: a stability method of :mod:`periodyn.stability.methods`; truncation: "refuse" or
+    "warn", for Hill results above the truncation tolerance (:func:`characteristic_exponents`).
     """
     method = check_method(method)
     omega = np.asarray(omega, dtype=float)
@@ -54,14 +56,15 @@ def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.nda
         raise InputError("omega must be an increasing 1-D grid of at least two speeds (rad/s)")
 
     def max_real(w):
-        return characteristic_exponents(system_at(w), harmonics, method).max_real
+        return characteristic_exponents(system_at(w), harmonics, method, truncation=truncation).max_real
 
     values = np.array([max_real(w) for w in omega])
     out = []
     for i in np.nonzero(np.sign(values[:-1]) * np.sign(values[1:]) < 0)[0]:
         w = brentq(max_real, omega[i], omega[i + 1], xtol=xtol * omega[i], rtol=4 * np.finfo(float).eps)
         side = omega[i] if values[i] > 0 else omega[i + 1]  # the unstable side names the type
-        kind = crossing_type(characteristic_exponents(system_at(w + 0.5 * (side - w) * 1e-3), harmonics, method))
+        kind = crossing_type(characteristic_exponents(system_at(w + 0.5 * (side - w) * 1e-3), harmonics, method,
+                                                      truncation=truncation))
         out.append(StabilityBoundary(float(w), kind, bool(values[i + 1] < 0)))
     return out
 

@@ -22,11 +22,11 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ConvergenceError, InputError
 from ..harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from ..harmonic.pattern import BlockPattern
 from ..system import RheoLinear
-from .floquet import STABILITY_TOL, FloquetExponents
+from .floquet import STABILITY_TOL, TRUNCATION_TOL, FloquetExponents, TruncationWarning, truncation_message
 from .hill import arpack_k, hill_solve, shift_frequencies, shift_grid, top_frequencies
 from .magnus import MagnusLadder, sweep_exponents, sweep_terms
 from .monodromy import monodromy_exponents
@@ -48,7 +48,8 @@ class StabilityMethod:
     choose(stage, w) -> (names (S,), reasons (S,), exponents (S, 2n), solved (S,)): a method
     that hands each speed w (S,) rad/s to another one (``delegates``) or solves it itself.
     prepare(model) -> per-model data kept by a sweep (``stage.prepared(name)``).
-    batch(stage, w) -> (exponents (S, 2n), messages (S,)): a chunk of speeds at once.
+    batch(stage, w) -> (exponents (S, 2n), messages (S,)[, Hill truncation indicators (S,)]):
+    a chunk of speeds at once.
     sweep_cost(stage, w, base) -> estimated seconds (S,) of a speed whose harmonic balance
     costs ``base`` s. cost(pattern, n, shifts) -> estimated seconds at one speed (the Hill
     methods, compared by the auto rule). rule: how it chooses per point, recorded with a sweep.
@@ -331,7 +332,7 @@ def hill_exponents(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray,
 
 
 def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "auto", *,
-                             form: str = "direct") -> FloquetExponents:
+                             form: str = "direct", truncation: str = "refuse") -> FloquetExponents:
     """Characteristic exponents of the homogeneous rheo-linear system.
 
     method: a registered stability method (:func:`names`): "sparse" (ARPACK shift-invert
@@ -342,7 +343,21 @@ def characteristic_exponents(system: RheoLinear, harmonics: int, method: str = "
     dense or sparse Hill, whichever is estimated cheaper; see ``.method`` and ``.reason``);
     ``harmonics`` is unused by the methods without the Hill operator.
     form: "direct" (Hill on M, C, K) or "inverse-mass" (the paper's eq. 26-27 on P, Q).
+    truncation: what to do with a Hill result whose truncation indicator ``.truncation``
+    (edge energy fraction) is above TRUNCATION_TOL: "refuse" (ConvergenceError naming the
+    fix: more harmonics) or "warn" (TruncationWarning, the result is returned).
     """
+    if truncation not in _TRUNCATION_CHOICES:
+        raise InputError(f"truncation must be one of {_TRUNCATION_CHOICES}, got {truncation!r}")
     entry = method_named(method)
     op = HarmonicOperator.for_system(system, harmonics, form).at(system.omega) if entry.operator else None
-    return entry.exponents(system, op)
+    result = entry.exponents(system, op)
+    if result.truncation > TRUNCATION_TOL:
+        message = truncation_message(result.truncation, op.m, result.omega, result.method)
+        if truncation == "refuse":
+            raise ConvergenceError(f"{message}, or pass truncation='warn' to accept it with a warning")
+        warnings.warn(message, TruncationWarning, stacklevel=2)
+    return result
+
+
+_TRUNCATION_CHOICES = ("refuse", "warn")

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from .floquet import FloquetExponents
+from .hill import top_frequencies
 from .magnus import gauss_angles, magnus_steps, magnus_transition, monodromy_exponent_array
 from ..numerics.integration import solve
 from ..dae import ode
@@ -29,6 +30,10 @@ from ..system import RheoLinear
 __all__ = ["first_order_matrix", "monodromy_matrix", "monodromy_exponents", "exponents_from_monodromy", "integrate"]
 
 RTOL, ATOL = 1e-11, 1e-13
+#: Most natural periods (of the mean system's highest vibration frequency) that one driving
+#: period may span for the DOP853 monodromy: its cost grows with that count (elliptic pendulum:
+#: 1.3 s at 10, 8 s at 1000), and at 1e-7 rad/s (1e7 of them) it would not return.
+MAX_NATURAL_PERIODS = 1e4
 
 
 def _coefficients(system: RheoLinear, forced: bool = True):
@@ -117,8 +122,23 @@ def monodromy_exponents(system: RheoLinear, method: str = "monodromy", steps: in
         Mg, Cg, Kg = StackedSpectra(S.mass, S.damping, S.stiffness).at(theta)
         Phi = magnus_transition(Mg, Cg, Kg, system.period / steps)
     else:
+        _check_span(system)
         Phi = monodromy_matrix(system)
     return exponents_from_monodromy(Phi, system.omega, method)
+
+
+def _check_span(system: RheoLinear) -> None:
+    """Refuse (ConvergenceError, a failed point in a sweep) a DOP853 monodromy whose period
+    spans more than MAX_NATURAL_PERIODS periods of the mean system's highest frequency."""
+    S = system.spectra
+    K = (S.mass.shape[0] - 1) // 2
+    top = float(top_frequencies(S.stiffness[K][None], S.damping[K][None], S.mass[K])[0])
+    spans = top * system.period / (2 * np.pi)
+    if spans > MAX_NATURAL_PERIODS:
+        raise ConvergenceError(
+            f"the monodromy (DOP853) at omega = {system.omega:.6g} rad/s would integrate {spans:.3g} natural periods "
+            f"(highest frequency {top:.4g} rad/s) over one driving period, more than {MAX_NATURAL_PERIODS:g}; it "
+            "would not finish: use Hill's method (method='dense' or 'sparse', with enough harmonics) or a higher speed")
 
 
 def exponents_from_monodromy(Phi: np.ndarray, omega: float, method: str):

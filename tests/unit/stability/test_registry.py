@@ -68,33 +68,33 @@ def test_a_registered_method_serves_scalar_calls_sweeps_and_boundaries(registry)
 def test_stability_names_the_method_and_method_is_deprecated():
     model = periodyn.examples.pendulum(samples=32)
     speeds = np.array([0.6, 1.1]) * model.metadata["omega0"]
-    new = periodyn.sweep(model, speeds, 4, stability="dense", progress=False)
+    new = periodyn.sweep(model, speeds, 12, stability="dense", progress=False)
     with pytest.warns(DeprecationWarning, match=r"stability='dense'"):
-        old = periodyn.sweep(model, speeds, 4, method="dense", progress=False)
+        old = periodyn.sweep(model, speeds, 12, method="dense", progress=False)
     np.testing.assert_array_equal(new.exponents.values, old.exponents.values)
     assert new.attrs["method"] == old.attrs["method"] == "dense"
     assert set(new.stability_method.values) == {"dense"}
-    off = periodyn.sweep(model, speeds, 4, stability=False, progress=False)
+    off = periodyn.sweep(model, speeds, 12, stability=False, progress=False)
     assert off.attrs["stability_methods"] == "none (stability off)"
     with pytest.raises(InputError, match="disagree"), pytest.warns(DeprecationWarning):
-        periodyn.sweep(model, speeds, 4, stability="dense", method="sparse", progress=False)
+        periodyn.sweep(model, speeds, 12, stability="dense", method="sparse", progress=False)
     with pytest.raises(InputError, match="unknown method 'fast'"):
-        periodyn.sweep(model, speeds, 4, stability="fast", progress=False)
+        periodyn.sweep(model, speeds, 12, stability="fast", progress=False)
     system = model.at(speeds[0])
     with pytest.warns(DeprecationWarning):
-        point = solve_point(system, 4, method="magnus")
-    assert point.method == solve_point(system, 4, "magnus").method == "magnus"
+        point = solve_point(system, 12, method="magnus")
+    assert point.method == solve_point(system, 12, "magnus").method == "magnus"
     with pytest.warns(DeprecationWarning):
-        assert SpeedSolver(model, 4, method="sparse").method == "sparse"
+        assert SpeedSolver(model, 12, method="sparse").method == "sparse"
 
 
 def test_hill_is_the_cheaper_hill_method_everywhere():
     """"hill" (the orbits' name) is what "auto" on an operator alone takes."""
     model = periodyn.examples.pendulum(samples=32)
     w = 1.1 * model.metadata["omega0"]
-    hill = periodyn.characteristic_exponents(model.at(w), 4, method="hill")
-    chosen, reason = methods.choose_method(periodyn.harmonic.HarmonicOperator.for_system(model.at(w), 4).at(w))
+    hill = periodyn.characteristic_exponents(model.at(w), 12, method="hill")
+    chosen, reason = methods.choose_method(periodyn.harmonic.HarmonicOperator.for_system(model.at(w), 12).at(w))
     assert hill.method == chosen and hill.reason == reason
-    batch = SpeedSolver(model, 4, "hill").solve_many([w])  # dense: stacked LAPACK, equal to round-off
+    batch = SpeedSolver(model, 12, "hill").solve_many([w])  # dense: stacked LAPACK, equal to round-off
     np.testing.assert_allclose(batch.exponents[0], hill.exponents, rtol=1e-13)
     assert batch.method[0] == chosen
