@@ -81,6 +81,16 @@ def test_expm_matches_scipy(d, norm):
     np.testing.assert_allclose(out, ref, atol=5e-14 * np.abs(ref).max() * max(1.0, norm))
 
 
+@pytest.mark.parametrize("scale", [1e80, np.inf])
+def test_expm_of_an_overflowing_generator_is_nan_at_once(scale):
+    """||X^4|| beyond the double range: NaN (a non-finite monodromy, reported by the caller)
+    instead of halving an infinite norm for ever."""
+    X = np.array([[0.0, 1.0], [-1.0, -0.1]]) * scale
+    out, scratch = np.empty((2, 2)), np.empty((6, 2, 2))
+    _expm(X, out, scratch)
+    assert np.isnan(out).all()
+
+
 def _slider_crank_terms(steps, points):
     """The slider crank's Magnus terms at ``points`` Gauss points of ``steps`` steps, the model, the angles."""
     model = periodyn.examples.slider_crank(damping=0.02, samples=64)

@@ -91,12 +91,16 @@ def _expm(X, out, w):
     the unit round-off, bounded by ||X^13|| <= ||X^4||^3 ||X|| of the scaled matrix
     (X^2, X^4 are formed before scaling and rescaled exactly by powers of two): for
     the oscillatory step generators ||X^4||^(1/4) is near the spectral radius, well
-    below ||X||, so this saves squarings over a plain norm test."""
+    below ||X||, so this saves squarings over a plain norm test. out is NaN where ||X^4||
+    overflows (the caller reports a non-finite monodromy matrix)."""
     d = X.shape[0]
     X1, X2, X3, X4, T, tmp = w[0], w[1], w[2], w[3], w[4], w[5]
     _matmul(X, X, X2)
     _matmul(X2, X2, X4)
     n1, n4 = _norm1(X), _norm1(X4)
+    if not (np.isfinite(n1) and np.isfinite(n4)):  # X^4 overflows: no squaring count resolves it
+        out[:] = np.nan
+        return
     squarings = 0
     while n4**3 * n1 > 6.2e9 * 1.1e-16 or n1 > 4.0:  # 13! u; n1 keeps the neglected tail geometric
         n1 *= 0.5
