@@ -43,8 +43,8 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         raise RuntimeError("results/slider_crank_transient.nc does not match results/slider_crank.nc at 150 rad/s; "
                            "check that sweeps/slider_crank_transient.toml and sweeps/slider_crank.toml describe the "
                            "same model, harmonics and samples")
-    averaged = tr["outputs"].sel(method="averaging").values
-    direct = tr["outputs"].sel(method="integrate").values
+    averaged = tr["outputs"].sel({"method": "averaging"}).values
+    direct = tr["outputs"].sel({"method": "integrate"}).values
     branch = periodyn.studies.spec.ensure("slider_crank_nonlinear")["frequency"]
     if abs(branch.omega[0] - OMEGA) > 1e-9:
         raise RuntimeError("results/slider_crank_nonlinear.nc does not start at 150 rad/s; rerun its study")
@@ -53,7 +53,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     tr_nl = periodyn.studies.spec.ensure("slider_crank_nonlinear_transient").sel(output="midpoint_deflection")
     if abs(tr_nl.attrs["omega"] - OMEGA) > 1e-9 or not np.allclose(tr_nl["time"].values, t, rtol=1e-12, atol=0):
         raise RuntimeError("results/slider_crank_nonlinear_transient.nc is not at 150 rad/s over the same times")
-    transient_nl = tr_nl["outputs"].sel(method="integrate").values
+    transient_nl = tr_nl["outputs"].sel({"method": "integrate"}).values
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(theta, periodic_output, "k-", lw=1.5, label="periodic (HB, sweep results)")
     ax.plot(theta, averaged, "C0-", lw=1, label="periodic + transient (averaging)")
