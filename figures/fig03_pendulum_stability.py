@@ -13,12 +13,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure("pendulum")
+    ds = figure_result("pendulum")
     w0 = float(ds["omega_over_omega0"].attrs["reference_frequency"])
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values

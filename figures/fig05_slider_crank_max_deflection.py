@@ -19,9 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
 from periodyn.nonlinear import element_outputs  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, figure_study, save_figure  # noqa: E402
 
 
 def max_deflection(harmonics: np.ndarray, indices: np.ndarray) -> np.ndarray:
@@ -40,15 +39,15 @@ def nonlinear_max_deflection(branch, model, samples: int = 64) -> np.ndarray:
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure("slider_crank")
+    ds = figure_result("slider_crank")
     w1 = float(ds["omega_over_omega1"].attrs["reference_frequency"])
     omega = ds["omega"].values
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for damping, style in ((0.01, "C0-"), (0.02, "k-")):
         harmonics = ds["harmonics"].sel(damping=damping, output="midpoint_deflection").values  # (k, 2m+1)
         ax.plot(omega, max_deflection(harmonics, ds["harmonic"].values), style, lw=1, label=f"{damping:.0%} damping")
-    branch = periodyn.studies.spec.ensure("slider_crank_nonlinear")["frequency"]
-    study = periodyn.studies.spec.load_sweep_file(periodyn.studies.spec.project_root() / "sweeps" / "slider_crank_nonlinear.toml")
+    branch = figure_result("slider_crank_nonlinear")["frequency"]
+    study = figure_study("slider_crank_nonlinear")
     model = study.build().equations.model  # the element model the branch was computed for
     ax.plot(branch.omega, nonlinear_max_deflection(branch, model), "k--", lw=1,
             label=f"{study.parameters['damping']:.0%}, full non-linear")
