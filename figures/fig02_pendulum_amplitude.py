@@ -3,8 +3,9 @@ pendulum, zeta = 0.01, 0 < omega/omega0 < 0.9: linearized eq. (29) from
 sweeps/pendulum.toml (black) and the full non-linear eq. (28) by shooting with arc-length
 continuation from sweeps/pendulum_nonlinear.toml (red: solid where the orbit is stable,
 dashed where unstable by the multipliers of the shooting monodromy; folds and period
-doublings marked). The non-linear resonance bends through two folds onto a large-amplitude
-upper branch."""
+doublings marked). The non-linear resonance near 0.9 omega0 bends backwards through a fold
+(0.88 omega0) and turns again (0.50 omega0) onto a large-amplitude upper branch, unstable
+between its period doublings (0.51 and 0.83 omega0) and stable above."""
 
 from __future__ import annotations
 

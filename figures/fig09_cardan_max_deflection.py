@@ -27,7 +27,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.examples.cardan import orbit_maxima  # noqa: E402
 from periodyn.nonlinear import element_outputs  # noqa: E402
 from periodyn.plotting import figure_result, figure_study, save_figure  # noqa: E402
 
@@ -79,27 +78,26 @@ def lateral_maximum(ds) -> np.ndarray:
     return np.hypot(v, w).max(axis=1)
 
 
-def orbit_lateral_maximum(model, orbit, samples: int = 360) -> float:
-    """max sqrt(v^2 + w^2) along a non-linear orbit (``model``: its element model), at
-    ``samples`` times per period, measured from the rigid motion as the linearized outputs."""
+def orbit_maxima(model, orbit, samples: int = 360) -> tuple[float, float]:
+    """(max sqrt(v^2 + w^2), max twist) along a non-linear orbit (``model``: its element
+    model) at ``samples`` times per period, measured from the rigid motion as the
+    linearized outputs are (as :func:`periodyn.examples.cardan.orbit_maxima`, which gives
+    |v| alone)."""
     t = np.arange(samples) * orbit.period / samples
     y = element_outputs(model, orbit.omega, t, orbit(t))
     names = [o.name for o in model.outputs]
-    return float(np.hypot(*(y[:, names.index(output)] for output in LATERAL)).max())
+    lateral = np.hypot(*(y[:, names.index(output)] for output in LATERAL))
+    return float(lateral.max()), float(y[:, names.index("twist")].max())
 
 
 def nonlinear_points() -> dict[str, np.ndarray]:
     """The non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml``: omega / omega_b,
-    stable (bool), the maxima of :func:`periodyn.examples.cardan.orbit_maxima` (``twist``)
-    and the lateral deflection (``lateral``), (k,) each."""
+    stable (bool) and the maxima of :func:`orbit_maxima` (``lateral``, ``twist``), (k,) each."""
     branch = figure_result(NONLINEAR)["frequency"]
-    study = figure_study(NONLINEAR)
-    system = study.build()  # the element model the orbits were computed for
-    model = system.equations.model
-    maxima = [orbit_maxima(model, orbit) for orbit in branch.solutions]
+    system = figure_study(NONLINEAR).build()  # the element model the orbits were computed for
+    maxima = np.array([orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]).reshape(-1, 2)
     return {"ratio": branch.omega / system.metadata["omega_b"], "stable": branch.stable.astype(bool),
-            "twist": np.array([m["twist"] for m in maxima]),
-            "lateral": np.array([orbit_lateral_maximum(model, orbit) for orbit in branch.solutions])}
+            "lateral": maxima[:, 0], "twist": maxima[:, 1]}
 
 
 def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> None:

@@ -187,12 +187,15 @@ def save_figure(fig, path) -> Path:
 _MARK = {"fold": ("o", "k"), "branch-point": ("D", "tab:green"), "period-doubling": ("s", "tab:red"), "neimark-sacker": ("^", "tab:purple")}
 
 
-def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:blue", x=None) -> None:
+def plot_branch(ax, branch, coordinate: int | None, label: str = "", color: str = "tab:blue", x=None,
+                y=None) -> None:
     """Amplitude of one coordinate along a branch: solid stable, dashed unstable, markers
     at special points (their refined amplitude). x: the abscissa per point (k,), default
-    the branch's parameter; a special point sits where it lies between its two points."""
+    the branch's parameter; y: the ordinate per point (k,) instead of the amplitude of
+    ``coordinate`` (then None). A special point sits where it lies between its two points
+    (on y, interpolated likewise)."""
     xs = branch.parameter if x is None else np.asarray(x)
-    amp = branch.amplitude[:, coordinate]
+    amp = branch.amplitude[:, coordinate] if y is None else np.asarray(y)
     stable = np.array([bool(s) for s in branch.stable])
     starts = np.concatenate([[0], np.nonzero(np.diff(stable.astype(int)))[0] + 1])
     ends = np.concatenate([starts[1:], [len(amp) - 1]])
@@ -202,8 +205,8 @@ def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:
                 label=f"{label} {'stable' if flag else 'unstable'}".strip())
     for sp in branch.special_points:
         m, c = _MARK[sp.type]
-        ax.plot([_special_abscissa(branch, sp, xs)], [sp.amplitude[coordinate]], m, color=c, mfc="none", ms=8,
-                label=sp.type)
+        ordinate = sp.amplitude[coordinate] if y is None else _special_abscissa(branch, sp, amp)
+        ax.plot([_special_abscissa(branch, sp, xs)], [ordinate], m, color=c, mfc="none", ms=8, label=sp.type)
     unique_legend(ax, fontsize=7)
 
 
@@ -245,8 +248,8 @@ def drawn_branch(branch, parent=None, rtol: float = 1e-6):
 
 
 def _special_abscissa(branch, point, xs: np.ndarray) -> float:
-    """Where ``point`` lies on the abscissa ``xs``: interpolated between its bracketing
-    branch points by its parameter (a folded branch's parameter is not monotonic)."""
+    """Where ``point`` lies on ``xs`` (k,): interpolated between its bracketing branch
+    points by its parameter (a folded branch's parameter is not monotonic)."""
     i = min(max(point.index, 0), len(xs) - 2)
     p0, p1 = branch.parameter[i], branch.parameter[i + 1]
     t = 0.0 if p1 == p0 else float(np.clip((point.parameter - p0) / (p1 - p0), 0.0, 1.0))
