@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.plotting import (figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
                                time_history_figure)
 from periodyn.numerics.integration import integrate
 from periodyn.nonlinear import shooting  # noqa: E402
@@ -27,7 +27,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     branches = figure_result("dae_slider_rod_pendulum")  # computed when missing
     s = spec.build()
     H = spec.harmonics
-    br = branches["frequency"]
+    br = drawn_branch(branches["frequency"])
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 0)
     axes[0].set_ylabel("slider x1 amplitude (m)")
