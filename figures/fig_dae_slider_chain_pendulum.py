@@ -44,7 +44,8 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         ax.set_xlabel("omega (rad/s)")
         ax.grid(alpha=0.3)
     fig.suptitle(f"slider-chain pendulum, {s.n} coordinates, {s.m} multipliers, p = {s.parameters['p']} N, "
-                 f"H = {H}, max residual {br.residual.max():.1e}\nspecial points drawn: {len(drawn.special_points)} not rejected (each once); "
+                 f"H = {H}, max residual {br.residual.max():.1e}\n"
+                 f"special points drawn: {len(drawn.special_points)} not rejected (each once); "
                  f"{len(br.special_points) - len(kept)} spurious left out (orbit unresolved, no resolved crossing "
                  f"at H = {H + 4})",
                  fontsize=9)
