@@ -10,6 +10,7 @@ between its period doublings (0.51 and 0.83 omega0) and stable above."""
 from __future__ import annotations
 
 import pathlib
+import sys
 
 import matplotlib
 
@@ -41,4 +42,4 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
 
 
 if __name__ == "__main__":
-    print(*main(pathlib.Path(__file__).parent / "png"), sep="\n")
+    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")

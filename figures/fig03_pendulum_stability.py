@@ -6,6 +6,7 @@ zeta = 0.01, 0 < omega/omega0 < 1.4, with the stability boundaries the sweep ref
 from __future__ import annotations
 
 import pathlib
+import sys
 
 import matplotlib
 
@@ -43,4 +44,4 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
 
 
 if __name__ == "__main__":
-    print(*main(pathlib.Path(__file__).parent / "png"), sep="\n")
+    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")
