@@ -6,6 +6,7 @@ zeta = 0.01, 0 < omega/omega0 < 1.4, with the stability boundaries the sweep ref
 from __future__ import annotations
 
 import pathlib
+import sys
 
 import matplotlib
 
@@ -13,12 +14,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure("pendulum")
+    ds = figure_result("pendulum")
     w0 = float(ds["omega_over_omega0"].attrs["reference_frequency"])
     r = ds["omega_over_omega0"].values
     amp = ds["amplitude"].sel(output="phi").values
@@ -44,4 +44,4 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
 
 
 if __name__ == "__main__":
-    print(*main(pathlib.Path(__file__).parent / "png"), sep="\n")
+    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")

@@ -3,7 +3,7 @@ slider-crank's connecting rod at omega = 150 rad/s, 2 % damping: periodic soluti
 periodic + transient from rest (averaging, eq. 24, and direct integration) over the
 first period.
 
-Everything is read from results (computed when missing through ``periodyn.studies.spec.ensure``):
+Everything is read from results (computed when missing through ``periodyn.plotting.figure_result``):
 the periodic solution from ``sweeps/slider_crank.toml`` (the point omega = 150 rad/s, 2 %
 damping), the transients from ``sweeps/slider_crank_transient.toml`` (whose periodic part
 must equal the sweep's). Dashed: the full non-linear equations (4), the periodic solution
@@ -22,19 +22,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import periodyn  # noqa: E402
-import periodyn.studies.spec  # noqa: E402
 from periodyn.examples.slider_crank_rod import slider_crank_nonlinear  # noqa: E402
 from periodyn.nonlinear import element_outputs  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 OMEGA = 150.0  # rad/s
 DAMPING = 0.02
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure("slider_crank").sel(damping=DAMPING, omega=OMEGA, output="midpoint_deflection")
+    ds = figure_result("slider_crank").sel(damping=DAMPING, omega=OMEGA, output="midpoint_deflection")
     stored = ds["harmonics"].values  # (2m+1,), l = -m..m
-    tr = periodyn.studies.spec.ensure("slider_crank_transient").sel(output="midpoint_deflection")
+    tr = figure_result("slider_crank_transient").sel(output="midpoint_deflection")
     t = tr["time"].values
     theta = OMEGA * t
     periodic_output = (stored @ np.exp(1j * np.outer(ds["harmonic"].values, theta))).real
@@ -43,17 +42,17 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         raise RuntimeError("results/slider_crank_transient.nc does not match results/slider_crank.nc at 150 rad/s; "
                            "check that sweeps/slider_crank_transient.toml and sweeps/slider_crank.toml describe the "
                            "same model, harmonics and samples")
-    averaged = tr["outputs"].sel(method="averaging").values
-    direct = tr["outputs"].sel(method="integrate").values
-    branch = periodyn.studies.spec.ensure("slider_crank_nonlinear")["frequency"]
+    averaged = tr["outputs"].sel({"method": "averaging"}).values
+    direct = tr["outputs"].sel({"method": "integrate"}).values
+    branch = figure_result("slider_crank_nonlinear")["frequency"]
     if abs(branch.omega[0] - OMEGA) > 1e-9:
         raise RuntimeError("results/slider_crank_nonlinear.nc does not start at 150 rad/s; rerun its study")
     orbit = branch.solutions[0]
     periodic_nl = element_outputs(slider_crank_nonlinear(DAMPING).equations.model, OMEGA, t, orbit(t))[:, 0]
-    tr_nl = periodyn.studies.spec.ensure("slider_crank_nonlinear_transient").sel(output="midpoint_deflection")
+    tr_nl = figure_result("slider_crank_nonlinear_transient").sel(output="midpoint_deflection")
     if abs(tr_nl.attrs["omega"] - OMEGA) > 1e-9 or not np.allclose(tr_nl["time"].values, t, rtol=1e-12, atol=0):
         raise RuntimeError("results/slider_crank_nonlinear_transient.nc is not at 150 rad/s over the same times")
-    transient_nl = tr_nl["outputs"].sel(method="integrate").values
+    transient_nl = tr_nl["outputs"].sel({"method": "integrate"}).values
     fig, ax = plt.subplots(figsize=(6, 3.5))
     ax.plot(theta, periodic_output, "k-", lw=1.5, label="periodic (HB, sweep results)")
     ax.plot(theta, averaged, "C0-", lw=1, label="periodic + transient (averaging)")

@@ -17,9 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
 from periodyn.examples.slider_crank_rod import slider_crank  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 DAMPING = 0.02
 
@@ -37,7 +36,7 @@ def quasistatic(model, omega: np.ndarray, orders=(1, 2, 3, 4)) -> np.ndarray:
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure("slider_crank").sel(damping=DAMPING, output="midpoint_deflection")
+    ds = figure_result("slider_crank").sel(damping=DAMPING, output="midpoint_deflection")
     omega = ds["omega"].values
     harmonics = ds["harmonics"].values  # (k, 2m+1), l = -m..m
     m = (harmonics.shape[1] - 1) // 2

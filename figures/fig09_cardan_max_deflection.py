@@ -1,13 +1,20 @@
 """Fig. 9 of Schwab & Meijaard (2001): maximal dimensionless midpoint deflection of the
-Cardan drive shaft's periodic solution over 0 < omega/omega_b < 1 (alpha = pi/6), the
-unstable stretches drawn thin between circles; resonances near 1/4, 1/3 and 1/2 of
-omega_b are marked.
+Cardan drive shaft's periodic solution in the lateral plane, max sqrt(v^2 + w^2)/l over one
+period, over 0 < omega/omega_b < 1 (alpha = pi/6), the unstable stretches drawn thin
+between circles; resonances near 1/4, 1/3 and 1/2 of omega_b are marked. v and w are the
+outputs ``midpoint_deflection`` (along the yoke-pin direction) and
+``midpoint_deflection_normal`` (the other lateral direction); with ``--components`` the
+maxima of |v| and |w| are drawn too (dashed and dotted; either alone is a projection of
+the lateral motion and can dip where the motion turns away from its direction).
 
 Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first use).
 Squares: the full non-linear equations (4) at twelve speeds, from the orbits of
-``sweeps/cardan_shaft_nonlinear.toml`` (implicit shooting), the deflection along each
-orbit through the non-linear kinematics; filled stable, open unstable by the
-multipliers of the shooting monodromy."""
+``sweeps/cardan_shaft_nonlinear.toml`` (implicit shooting), the lateral deflection along
+each orbit through the non-linear kinematics; filled stable, open unstable by the
+multipliers of the shooting monodromy.
+
+    python figures/fig09_cardan_max_deflection.py [OUT_DIR] [--components]
+"""
 
 from __future__ import annotations
 
@@ -20,12 +27,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
-from periodyn.examples.cardan import orbit_maxima  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.nonlinear import element_outputs  # noqa: E402
+from periodyn.plotting import figure_result, figure_study, save_figure  # noqa: E402
 
 NAME = "cardan_shaft"
 NONLINEAR = "cardan_shaft_nonlinear"
+LATERAL = ("midpoint_deflection", "midpoint_deflection_normal")  # v, w over the length
 
 
 def over_period(ds, output: str) -> np.ndarray:
@@ -65,15 +72,32 @@ def maximum_figure(ds, values, ylabel: str, title: str):
     return fig, ax
 
 
+def lateral_maximum(ds) -> np.ndarray:
+    """max over one period of the lateral deflection sqrt(v^2 + w^2) per speed, (k,)."""
+    v, w = (over_period(ds, output) for output in LATERAL)
+    return np.hypot(v, w).max(axis=1)
+
+
+def orbit_maxima(model, orbit, samples: int = 360) -> tuple[float, float]:
+    """(max sqrt(v^2 + w^2), max twist) along a non-linear orbit (``model``: its element
+    model) at ``samples`` times per period, measured from the rigid motion as the
+    linearized outputs are (as :func:`periodyn.examples.cardan.orbit_maxima`, which gives
+    |v| alone)."""
+    t = np.arange(samples) * orbit.period / samples
+    y = element_outputs(model, orbit.omega, t, orbit(t))
+    names = [o.name for o in model.outputs]
+    lateral = np.hypot(*(y[:, names.index(output)] for output in LATERAL))
+    return float(lateral.max()), float(y[:, names.index("twist")].max())
+
+
 def nonlinear_points() -> dict[str, np.ndarray]:
     """The non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml``: omega / omega_b,
-    stable (bool), and the maxima of :func:`periodyn.examples.cardan.orbit_maxima`, (k,) each."""
-    branch = periodyn.studies.spec.ensure(NONLINEAR)["frequency"]
-    study = periodyn.studies.spec.load_sweep_file(periodyn.studies.spec.project_root() / "sweeps" / f"{NONLINEAR}.toml")
-    system = study.build()  # the element model the orbits were computed for
-    maxima = [orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]
+    stable (bool) and the maxima of :func:`orbit_maxima` (``lateral``, ``twist``), (k,) each."""
+    branch = figure_result(NONLINEAR)["frequency"]
+    system = figure_study(NONLINEAR).build()  # the element model the orbits were computed for
+    maxima = np.array([orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]).reshape(-1, 2)
     return {"ratio": branch.omega / system.metadata["omega_b"], "stable": branch.stable.astype(bool),
-            **{key: np.array([m[key] for m in maxima]) for key in ("deflection", "twist")}}
+            "lateral": maxima[:, 0], "twist": maxima[:, 1]}
 
 
 def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> None:
@@ -86,15 +110,23 @@ def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> No
     ax.legend(fontsize=7, loc=legend)
 
 
-def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure(NAME)
-    deflection = np.abs(over_period(ds, "midpoint_deflection")).max(axis=1)
-    fig, ax = maximum_figure(ds, deflection, r"$(v/l)_{max}$ [-]",
-                             r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection (squares: non-linear)")
-    draw_nonlinear(ax, nonlinear_points(), "deflection")
+def main(out_dir: pathlib.Path, components: bool = False) -> list[pathlib.Path]:
+    """Fig. 9 into ``out_dir``; components: also the maxima of |v| and |w|."""
+    ds = figure_result(NAME)
+    fig, ax = maximum_figure(ds, lateral_maximum(ds), r"$(\sqrt{v^2 + w^2}/l)_{max}$ [-]",
+                             r"Cardan shaft, $\alpha = \pi/6$: midpoint deflection in the lateral plane "
+                             "(squares: non-linear)")
+    if components:
+        ratio = speed_ratio(ds)
+        labels = ("$|v/l|_{max}$ (yoke-pin direction)", "$|w/l|_{max}$ (normal to it)")
+        for output, style, label in zip(LATERAL, ("--", ":"), labels):
+            ax.plot(ratio, np.abs(over_period(ds, output)).max(axis=1), style, color="0.45", lw=0.8, label=label)
+    draw_nonlinear(ax, nonlinear_points(), "lateral")
     fig.tight_layout()
     return [save_figure(fig, pathlib.Path(out_dir) / "fig09_cardan_max_deflection.png")]
 
 
 if __name__ == "__main__":
-    print(*main(pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(__file__).parent / "png"), sep="\n")
+    args = [a for a in sys.argv[1:] if a != "--components"]
+    print(*main(pathlib.Path(args[0]) if args else pathlib.Path(__file__).parent / "png",
+                components="--components" in sys.argv[1:]), sep="\n")

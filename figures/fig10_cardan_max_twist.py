@@ -10,8 +10,7 @@ from __future__ import annotations
 import pathlib
 import sys
 
-import periodyn.studies.spec
-from periodyn.plotting import save_figure
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from fig09_cardan_max_deflection import (NAME, draw_nonlinear, maximum_figure, nonlinear_points,  # noqa: E402
@@ -21,7 +20,7 @@ STATIC_TWIST = 1060.288 * 1.0 / (210e9 / 2.6 * 3.141592653589793 * 0.03**4 / 2) 
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure(NAME)
+    ds = figure_result(NAME)
     fig, ax = maximum_figure(ds, over_period(ds, "twist").max(axis=1), r"$\varphi_{max}$ [rad]",
                              r"Cardan shaft, $\alpha = \pi/6$: twist (dashed: static, $\alpha = 0$)")
     ax.axhline(STATIC_TWIST, color="0.5", ls="--", lw=0.8)

@@ -15,8 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import periodyn.studies.spec  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
+from periodyn.plotting import figure_result, save_figure  # noqa: E402
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from fig09_cardan_max_deflection import NAME, speed_ratio  # noqa: E402
@@ -43,7 +42,7 @@ def harmonic_panels(ds, output: str, label: str, path: pathlib.Path) -> pathlib.
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure(NAME)
+    ds = figure_result(NAME)
     return [harmonic_panels(ds, "midpoint_deflection", "the midpoint deflection v/l",
                             pathlib.Path(out_dir) / "fig11_cardan_deflection_harmonics.png")]
 

@@ -9,15 +9,15 @@ from __future__ import annotations
 import pathlib
 import sys
 
-import periodyn.studies.spec
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from fig09_cardan_max_deflection import NAME  # noqa: E402
 from fig11_cardan_deflection_harmonics import harmonic_panels  # noqa: E402
+from periodyn.plotting import figure_result  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = periodyn.studies.spec.ensure(NAME)
+    ds = figure_result(NAME)
     return [harmonic_panels(ds, "twist", r"the twist $\varphi$ [rad]",
                             pathlib.Path(out_dir) / "fig12_cardan_twist_harmonics.png")]
 

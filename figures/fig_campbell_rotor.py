@@ -4,19 +4,18 @@ growing as the damping ratio falls, 1x and 2x running-speed lines, the Table I s
 and the stability threshold (if any in range).
 
 Reads the result of sweeps/rotor_campbell.toml (computed by ``periodyn sweep`` when
-missing, through ``ensure``)."""
+missing, through ``periodyn.plotting.figure_result``)."""
 
 from __future__ import annotations
 
 import pathlib
 import sys
 
-from periodyn.plotting import plot_campbell, save_figure
-from periodyn.studies.spec import ensure
+from periodyn.plotting import figure_result, plot_campbell, save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
-    ds = ensure("rotor_campbell")
+    ds = figure_result("rotor_campbell")
     fig = plot_campbell(ds, "Rotor of section 4.3")
     ax = fig.axes[0]
     ax.axvline(4000.0, color="0.6", lw=0.8)

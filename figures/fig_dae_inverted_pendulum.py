@@ -1,6 +1,9 @@
 """Inverted pendulum on a moving base (Ju, Fan & Zhu 2021, eqs. 63-64): period-1 branch with
 its period-doubling points, the period-doubled (2T) branch, an amplitude-base-amplitude
-curve, and the 2T orbit (q, lambda) vs integration.
+curve, and the 2T orbit (q, lambda) vs integration. Solid stable, dashed unstable. The 2T
+branch is drawn from the period doubling it is born at to the one where it rejoins the
+period-1 branch (beyond, the continuation retraces it as the orbits shifted by T), each
+special point once (``periodyn.plotting.drawn_branch``).
 
     python figures/fig_dae_inverted_pendulum.py [OUT_DIR]
 """
@@ -16,27 +19,26 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.studies.spec import ensure, load_sweep_file, project_root  # noqa: E402
-from periodyn.plotting import plot_branch, time_history_figure  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
+                               time_history_figure)
 from periodyn.numerics.integration import integrate
 from periodyn.nonlinear import shooting  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    spec = load_sweep_file(project_root() / "sweeps" / "dae_inverted_pendulum.toml")
-    branches = ensure("dae_inverted_pendulum")  # computed when missing
+    spec = figure_study("dae_inverted_pendulum")
+    branches = figure_result("dae_inverted_pendulum")  # computed when missing
     s = spec.build()
     H = spec.harmonics
-    br = branches["frequency"]
-    b2 = branches["period_doubled"]
+    br = drawn_branch(branches["frequency"])
+    b2 = drawn_branch(branches["period_doubled"], parent=br)
     pc = spec.parameter
-    brp = branches["parameter"]
+    brp = drawn_branch(branches["parameter"])
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 2, "period 1")
     plot_branch(axes[0], b2, 2, "period 2", color="tab:orange")
-    axes[0].set_xlim(*spec.omega)
+    axes[0].set_xlim(min(spec.omega[0], b2.omega.min()), max(spec.omega[1], b2.omega.max()))
     axes[0].set_xlabel("omega (rad/s)")
     axes[0].set_ylabel("phi amplitude (rad)")
     axes[0].set_title(f"base amplitude p = {s.parameters['p']} m, H = {H} (2H on the 2T branch)", fontsize=9)

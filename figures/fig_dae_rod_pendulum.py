@@ -15,23 +15,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.studies.spec import ensure, load_sweep_file, project_root  # noqa: E402
 from periodyn.nonlinear import ihb  # noqa: E402
-from periodyn.plotting import plot_branch, time_history_figure  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
+                               time_history_figure)
 from periodyn.numerics.integration import integrate
 from periodyn.numerics.integration import steady_state  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    spec = load_sweep_file(project_root() / "sweeps" / "dae_rod_pendulum.toml")
-    branches = ensure("dae_rod_pendulum")  # computed when missing
+    spec = figure_study("dae_rod_pendulum")
+    branches = figure_result("dae_rod_pendulum")  # computed when missing
     s = spec.build()
     H = spec.harmonics
-    br = branches["frequency"]
+    br = drawn_branch(branches["frequency"])
     pc = spec.parameter
-    brp = branches["parameter"]
+    brp = drawn_branch(branches["parameter"])
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 2)
     axes[0].set_xlabel("omega (rad/s)")

@@ -15,20 +15,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.studies.spec import ensure, load_sweep_file, project_root  # noqa: E402
-from periodyn.plotting import plot_branch, time_history_figure  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
+                               time_history_figure)
 from periodyn.numerics.integration import integrate
 from periodyn.nonlinear import shooting  # noqa: E402
-from periodyn.plotting import save_figure  # noqa: E402
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
-    spec = load_sweep_file(project_root() / "sweeps" / "dae_slider_rod_pendulum.toml")
-    branches = ensure("dae_slider_rod_pendulum")  # computed when missing
+    spec = figure_study("dae_slider_rod_pendulum")
+    branches = figure_result("dae_slider_rod_pendulum")  # computed when missing
     s = spec.build()
     H = spec.harmonics
-    br = branches["frequency"]
+    br = drawn_branch(branches["frequency"])
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     plot_branch(axes[0], br, 0)
     axes[0].set_ylabel("slider x1 amplitude (m)")

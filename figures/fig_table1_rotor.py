@@ -4,7 +4,7 @@ section 4.3 at 4000 rpm, periodyn (5 rotor elements as the paper, and refined me
 "present" column and Sundararajan & Noah's, with relative differences.
 
 Reads the results of sweeps/rotor_table1.toml (a grid over the mesh) and
-sweeps/rotor_table1_spatial.toml through ``ensure``; writes the table as text beside the
+sweeps/rotor_table1_spatial.toml through ``periodyn.plotting.figure_result``; writes the table as text beside the
 figures."""
 
 from __future__ import annotations
@@ -15,13 +15,13 @@ import sys
 import numpy as np
 
 from periodyn.examples.rotor_table1 import TABLE_I_PRESENT, TABLE_I_REFERENCE, TABLE_I_SPEED_RPM
-from periodyn.studies.spec import ensure
+from periodyn.plotting import figure_result  # noqa: E402
 
 
 
 def table() -> str:
-    meshes = ensure("rotor_table1")
-    spatial = ensure("rotor_table1_spatial")
+    meshes = figure_result("rotor_table1")
+    spatial = figure_result("rotor_table1_spatial")
     if not np.allclose([*meshes["speed_rpm"].values, *spatial["speed_rpm"].values], TABLE_I_SPEED_RPM):
         raise ValueError(f"sweeps/rotor_table1*.toml must give the speed of Table I, {TABLE_I_SPEED_RPM} rpm")
     runs = {int(n): meshes.sel(elements=n) for n in meshes["elements"].values}

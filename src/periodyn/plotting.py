@@ -1,6 +1,24 @@
 """Drawing sweep results (matplotlib, Agg backend): the ``periodyn sweep --plot`` figure
-and small helpers the scripts in ``figures/`` share. Only reads datasets and
-branches; computes nothing."""
+and small helpers the scripts in ``figures/`` share. Drawing only reads datasets and
+branches; :func:`figure_result` runs a study whose result is missing or stale.
+
+The figure scripts read their studies through :func:`figure_study` (the parsed study
+file) and :func:`figure_result` (its result, computed when not current). Two environment
+variables choose where:
+
+``PERIODYN_FIGURE_STUDIES``
+    a folder of study files that replace those of ``sweeps/`` with the same name (a study
+    it lacks is read from ``sweeps/``). ``tests/data/figure_studies`` holds reduced
+    studies (fewer speeds, shorter branches) that make every figure in about a minute::
+
+        PERIODYN_FIGURE_STUDIES=tests/data/figure_studies periodyn figures --out-dir /tmp/png
+
+``PERIODYN_FIGURE_RESULTS``
+    the folder of the results (default ``results/``, or ``results/<folder name>/`` with
+    ``PERIODYN_FIGURE_STUDIES``, so that reduced results never replace full ones).
+
+Relative folders are taken from the project root (the folder holding ``sweeps/``).
+"""
 
 from __future__ import annotations
 
@@ -15,10 +33,49 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["speed_axis", "output_unit", "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure",
-           "plot_branch", "time_history_figure", "plot_study", "plot_transient", "plot_campbell"]
+__all__ = ["STUDIES_VARIABLE", "RESULTS_VARIABLE", "figure_study", "figure_result", "speed_axis", "output_unit",
+           "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure",
+           "plot_branch", "drawn_branch", "unique_legend", "time_history_figure", "plot_study", "plot_transient",
+           "plot_campbell"]
 
 _MAX_CURVES = 12
+
+STUDIES_VARIABLE = "PERIODYN_FIGURE_STUDIES"
+RESULTS_VARIABLE = "PERIODYN_FIGURE_RESULTS"
+
+
+def _study_folders(name: str) -> tuple[Path, Path]:
+    """(the folder holding ``<name>.toml``, the results folder) of the figure scripts."""
+    import os
+
+    from .studies.spec import project_root
+
+    root = project_root()
+    chosen = os.environ.get(STUDIES_VARIABLE, "")
+    studies = root / chosen if chosen else root / "sweeps"
+    if chosen and not studies.is_dir():
+        from .errors import InputError
+
+        raise InputError(f"{STUDIES_VARIABLE}={chosen}: no such folder (from {root}); give a folder of study files")
+    results = os.environ.get(RESULTS_VARIABLE, "")
+    results = root / results if results else root / "results" / (studies.name if chosen else "")
+    return (studies if (studies / f"{name}.toml").is_file() else root / "sweeps"), results
+
+
+def figure_study(name: str):
+    """The parsed study file ``<name>.toml`` a figure reads (module docstring: where from)."""
+    from .studies.spec import load_sweep_file
+
+    return load_sweep_file(_study_folders(name)[0] / f"{name}.toml")
+
+
+def figure_result(name: str):
+    """The result of the study ``<name>`` (:func:`periodyn.studies.spec.ensure`: read when
+    current, else computed): a Dataset, or {branch name: Branch} of a continuation."""
+    from .studies.spec import ensure
+
+    studies, results = _study_folders(name)
+    return ensure(name, results, studies)
 
 
 def speed_axis(ds: xr.Dataset) -> tuple[np.ndarray, str]:
@@ -130,11 +187,15 @@ def save_figure(fig, path) -> Path:
 _MARK = {"fold": ("o", "k"), "branch-point": ("D", "tab:green"), "period-doubling": ("s", "tab:red"), "neimark-sacker": ("^", "tab:purple")}
 
 
-def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:blue", x=None) -> None:
+def plot_branch(ax, branch, coordinate: int | None, label: str = "", color: str = "tab:blue", x=None,
+                y=None) -> None:
     """Amplitude of one coordinate along a branch: solid stable, dashed unstable, markers
-    at special points (their refined amplitude)."""
-    xs = branch.parameter if x is None else x
-    amp = branch.amplitude[:, coordinate]
+    at special points (their refined amplitude). x: the abscissa per point (k,), default
+    the branch's parameter; y: the ordinate per point (k,) instead of the amplitude of
+    ``coordinate`` (then None). A special point sits where it lies between its two points
+    (on y, interpolated likewise)."""
+    xs = branch.parameter if x is None else np.asarray(x)
+    amp = branch.amplitude[:, coordinate] if y is None else np.asarray(y)
     stable = np.array([bool(s) for s in branch.stable])
     starts = np.concatenate([[0], np.nonzero(np.diff(stable.astype(int)))[0] + 1])
     ends = np.concatenate([starts[1:], [len(amp) - 1]])
@@ -144,11 +205,62 @@ def plot_branch(ax, branch, coordinate: int, label: str = "", color: str = "tab:
                 label=f"{label} {'stable' if flag else 'unstable'}".strip())
     for sp in branch.special_points:
         m, c = _MARK[sp.type]
-        v = sp.parameter if x is None else np.interp(sp.parameter, branch.parameter, xs)
-        ax.plot([v], [sp.amplitude[coordinate]], m, color=c, mfc="none", ms=8, label=sp.type)
+        ordinate = sp.amplitude[coordinate] if y is None else _special_abscissa(branch, sp, amp)
+        ax.plot([_special_abscissa(branch, sp, xs)], [ordinate], m, color=c, mfc="none", ms=8, label=sp.type)
+    unique_legend(ax, fontsize=7)
+
+
+def drawn_branch(branch, parent=None, rtol: float = 1e-6):
+    """``branch`` as it is drawn: each special point once (a branch that runs around a
+    loop twice meets its points twice: same type, omega and amplitude within ``rtol``).
+
+    parent: the period-1 branch that a period-doubled ``branch`` was switched from. Such
+    a branch runs from a period-doubling point of ``parent`` to another (or back to the
+    same), then retraces itself as the orbits shifted by one period T (the same
+    amplitudes): it is cut where it first meets a period-doubling point of ``parent``,
+    and its special points there, which continuation reports as folds (omega turns
+    there), are typed "period-doubling", as they are on ``parent``."""
+    from dataclasses import replace
+
+    def same(a, b) -> bool:
+        return abs(a - b) <= rtol * max(abs(a), abs(b))
+
+    points = list(branch.special_points)
+    end = len(branch.omega)
+    if parent is not None:
+        doublings = [p.omega for p in parent.points("period-doubling")]
+        at_parent = [p for p in points if p.index > 0 and any(same(p.omega, w) for w in doublings)]
+        if at_parent:
+            end = min(p.index for p in at_parent) + 2
+        points = [replace(p, type="period-doubling") if p in at_parent else p for p in points]
+    kept = []
+    for p in points:
+        if p.index + 1 < end and not any(
+                q.type == p.type and same(q.omega, p.omega) and np.allclose(q.amplitude, p.amplitude, rtol=rtol,
+                                                                            atol=0) for q in kept):
+            kept.append(p)
+    cut = slice(0, end)
+    columns = {name: getattr(branch, name)[cut] for name in ("omega", "parameter", "amplitude", "stable",
+                                                             "max_multiplier", "residual", "iterations")}
+    unknowns = None if branch.unknowns is None else branch.unknowns[cut]
+    return replace(branch, **columns, solutions=tuple(branch.solutions[cut]), special_points=tuple(kept),
+                   unknowns=unknowns)
+
+
+def _special_abscissa(branch, point, xs: np.ndarray) -> float:
+    """Where ``point`` lies on ``xs`` (k,): interpolated between its bracketing branch
+    points by its parameter (a folded branch's parameter is not monotonic)."""
+    i = min(max(point.index, 0), len(xs) - 2)
+    p0, p1 = branch.parameter[i], branch.parameter[i + 1]
+    t = 0.0 if p1 == p0 else float(np.clip((point.parameter - p0) / (p1 - p0), 0.0, 1.0))
+    return float(xs[i] + t * (xs[i + 1] - xs[i]))
+
+
+def unique_legend(ax, **kwargs) -> None:
+    """A legend with one entry per label (branches draw one line per stability run)."""
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
-    ax.legend(uniq.values(), uniq.keys(), fontsize=7)
+    ax.legend(uniq.values(), uniq.keys(), **kwargs)
 
 
 def time_history_figure(sol, th, coords, lams, names, lam_names, title):
@@ -179,7 +291,7 @@ def plot_study(branches: dict, title: str = ""):
     """Bifurcation diagram: amplitude of the coordinate moving most vs omega (frequency and
     period-doubled branches) and vs the parameter (parameter curve); solid stable, dashed
     unstable, special points marked by type."""
-    main = branches["frequency"]
+    main = drawn_branch(branches["frequency"])
     j = int(main.amplitude.max(axis=0).argmax())
     coordinate = main.solutions[0].coordinate_names[j]
     panels = 2 if "parameter" in branches else 1
@@ -187,11 +299,12 @@ def plot_study(branches: dict, title: str = ""):
     ax = axes[0, 0]
     plot_branch(ax, main, j, "period 1" if "period_doubled" in branches else "")
     if "period_doubled" in branches:
-        plot_branch(ax, branches["period_doubled"], j, "period 2", color="tab:orange")
+        doubled = drawn_branch(branches["period_doubled"], parent=main)
+        plot_branch(ax, doubled, j, "period 2", color="tab:orange")
     ax.set_xlabel("omega (rad/s)")
     ax.set_ylabel(f"{coordinate} amplitude")
     if panels == 2:
-        p = branches["parameter"]
+        p = drawn_branch(branches["parameter"])
         plot_branch(axes[0, 1], p, j)
         axes[0, 1].set_xlabel(f"{p.parameter_name} at omega = {p.omega[0]:.4g} rad/s")
     for a in axes[0]:
