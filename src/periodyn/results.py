@@ -16,12 +16,18 @@ variable                dims                                meaning
 ``status``              (*P, omega)                         0 solved, 1 failed (see ``message``)
 ``message``             (*P, omega)                         why a point failed ('' if solved)
 ``stability_method``    (*P, omega)                         stability method used ("auto" chooses per point)
+``reduced_modes``       (*P, omega)                         modes k of method "reduced" (0: not used there)
+``reduced_correction``  (*P, omega)                         its largest Schur correction |d_lambda|, 1/s
+``stability_error_bound`` (*P, omega)                       its bound on max_real_exponent * period
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
 ``output_units`` along output (the unit of each output, "" where the model does not say),
 ``exponent`` (index 0..2n-1), and ``omega_over_<ref>`` along omega when the sweep has a
-reference frequency. Failed points hold NaN and ``stable = False``.
+reference frequency. Failed points hold NaN and ``stable = False``. The columns of
+:data:`STABILITY_RECORDS` are in every sweep; where the method "reduced" did not certify
+the point (another method, a speed it handed on, no stability) they hold their fill
+values: ``reduced_modes`` 0, the two floats NaN.
 
 :data:`_LAYOUT` below is the one definition of this layout: :func:`empty_columns` (the
 per-point columns a sweep fills) and :func:`to_dataset` (the dataset) both read it.
@@ -47,7 +53,7 @@ import xarray as xr
 from .errors import InputError
 
 __all__ = ["load", "save", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
-           "STATUS_FAILED"]
+           "STATUS_FAILED", "STABILITY_RECORDS"]
 
 STATUS_SOLVED = 0
 STATUS_FAILED = 1
@@ -216,7 +222,20 @@ _LAYOUT = (
     ("message", (), "", {"long_name": "why the point failed, empty if solved"}),
     ("stability_method", (), "", {"long_name": "stability method used at the point (what method 'auto' chose; "
                                                "empty without stability or where the point failed)"}),
+    ("reduced_modes", (), np.int32(0),
+     {"long_name": "mean-system modes kept by stability method 'reduced' at the point (0 where it did not "
+                   "certify the point: another method, a speed it handed on, no stability or a failed point)",
+      "units": "1"}),
+    ("reduced_correction", (), np.nan,
+     {"long_name": "largest Schur-complement correction |d_lambda| of the exponents corrected by method 'reduced' "
+                   "(NaN where it did not certify the point)", "units": "1/s"}),
+    ("stability_error_bound", (), np.nan,
+     {"long_name": "certified bound of the error of max_real_exponent * period (log of the largest multiplier "
+                   "modulus) by method 'reduced': ladder error + 2 |d_lambda| period (NaN where it did not "
+                   "certify the point)", "units": "1"}),
 )
+#: per-speed columns a stability method may record (``choose``'s records), with their fill values
+STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-3:]}
 
 
 def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..harmonic.batch_balance import DENSE_TERMS_BYTES
 from ..harmonic.operator import HarmonicOperator
+from ..results import STABILITY_RECORDS
 from ..system import OmegaSplitModel
 from .hill import dense_exponents_batch
 from .methods import StabilityMethod, hill_costs_many, method_named
@@ -61,10 +62,18 @@ class SpeedStability:
     def choose(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Method names (S,), reasons (S,), exponents (S, 2n) and whether they are solved
         already (S,) at speeds w."""
-        if self.method.choose is not None:
-            return self.method.choose(self, w)
-        return (np.full(w.size, self.method.name, dtype=object), np.full(w.size, "requested", dtype=object),
-                np.full((w.size, 2 * self.n), np.nan + 0j), np.zeros(w.size, dtype=bool))
+        return self._choose(w)[:4]
+
+    def _choose(self, w: np.ndarray) -> tuple:
+        """:meth:`choose` and the per-speed records ({column: (S,)}, every column of
+        STABILITY_RECORDS, fill values where the method records none)."""
+        records = {name: np.full(w.size, fill) for name, fill in STABILITY_RECORDS.items()}
+        if self.method.choose is None:
+            return (np.full(w.size, self.method.name, dtype=object), np.full(w.size, "requested", dtype=object),
+                    np.full((w.size, 2 * self.n), np.nan + 0j), np.zeros(w.size, dtype=bool), records)
+        names, reasons, exps, solved, *recorded = self.method.choose(self, w)
+        records.update(recorded[0] if recorded else {})
+        return names, reasons, exps, solved, records
 
     def costs(self, w: np.ndarray, base: float) -> np.ndarray:
         """Estimated seconds (S,) of each speed whose harmonic balance costs ``base`` s."""
@@ -72,10 +81,10 @@ class SpeedStability:
             return np.full(w.size, base)
         return self.method.sweep_cost(self, w, base)
 
-    def solve(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
-        (S,) at speeds w."""
-        names, _, exps, solved = self.choose(w)
+    def solve(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """Exponents (S, 2n) (NaN where failed), failure messages (S,), the method used
+        (S,) and the per-speed records ({column of STABILITY_RECORDS: (S,)}) at speeds w."""
+        names, _, exps, solved, records = self._choose(w)
         message = np.full(w.size, "", dtype=object)
         for name in dict.fromkeys(names[~solved]):
             group = np.nonzero((names == name) & ~solved)[0]
@@ -87,7 +96,7 @@ class SpeedStability:
             message[i] = (f"an exponent at omega = {w[i]:.6g} rad/s has Re(lambda) T = {growth[i]:.3g}, beyond the "
                           "range of the multiplier exp(lambda T): the model's coefficients are out of the range the "
                           "solver resolves (rescale it or add harmonics)")
-        return exps, message, names
+        return exps, message, names, records
 
     def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return entry.batch(self, w) if entry.batch is not None else self.one_by_one(entry, w)
