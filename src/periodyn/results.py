@@ -46,6 +46,7 @@ import os
 import platform
 from importlib import metadata
 from pathlib import Path
+from typing import Callable, TypeVar
 
 import numpy as np
 import xarray as xr
@@ -53,8 +54,9 @@ import xarray as xr
 from .errors import InputError
 
 __all__ = ["load", "save", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
-           "STATUS_FAILED", "STABILITY_RECORDS"]
+           "STATUS_FAILED", "STABILITY_RECORDS", "load_groups"]
 
+_T = TypeVar("_T")
 STATUS_SOLVED = 0
 STATUS_FAILED = 1
 _PART = "part"
@@ -141,20 +143,22 @@ def _digest(f) -> str:
     return digest.hexdigest()
 
 
-def save(ds: xr.Dataset, path) -> Path:
-    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
+def save(ds: xr.Dataset, path, groups: dict[str, xr.Dataset] | None = None) -> Path:
+    """Write a result dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
     Fletcher-32 checksum and the file's contents with a SHA-256 digest, attribute
     ``periodyn_sha256``) atomically: the file is written beside the target and renamed,
-    so a crash never leaves half a file. An OS error (no space, no permission) is an
-    InputError naming the path and the fix."""
+    so a crash never leaves half a file. groups: {name: dataset} written as netCDF groups
+    beside ``ds`` in the root (read them with :func:`load_groups`). An OS error (no space,
+    no permission) is an InputError naming the path and the fix."""
     import h5py
 
     path = Path(path)
     tmp = path.with_name(f"{path.name}.{os.getpid()}.partial")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        split = _split_complex(ds)
-        split.to_netcdf(tmp, engine=_ENGINE, encoding=_checksummed(split))
+        for i, (group, part) in enumerate([(None, ds), *(groups or {}).items()]):
+            split = _split_complex(part)
+            split.to_netcdf(tmp, mode="a" if i else "w", group=group, engine=_ENGINE, encoding=_checksummed(split))
         with h5py.File(tmp, "r+") as f:
             f.attrs[_DIGEST] = _digest(f)
         os.replace(tmp, path)
@@ -169,25 +173,45 @@ def save(ds: xr.Dataset, path) -> Path:
 
 
 def load(path) -> xr.Dataset:
-    """Read a sweep result file written by :func:`save` (complex variables restored); a
+    """Read a result file written by :func:`save` (complex variables restored); a
     damaged file (checksum mismatch, broken structure) is an InputError naming it."""
+    return _checked(path, lambda f: _open(path, None))
+
+
+def load_groups(path) -> tuple[xr.Dataset, dict[str, xr.Dataset]]:
+    """The root dataset and {name: dataset} of every netCDF group of a file written by
+    :func:`save` with ``groups`` (checked and restored as :func:`load`)."""
+    import h5py
+
+    return _checked(path, lambda f: (_open(path, None), {name: _open(path, name) for name, obj in f.items()
+                                                         if isinstance(obj, h5py.Group)}))
+
+
+def _open(path: Path, group: str | None) -> xr.Dataset:
+    with xr.open_dataset(path, engine=_ENGINE, group=group) as raw:
+        ds = raw.load()
+    ds.attrs.pop(_DIGEST, None)
+    return _join_complex(ds)
+
+
+def _checked(path, read: Callable[..., _T]) -> _T:
+    """``read(f)`` (f: the open h5py file) after checking the SHA-256 digest :func:`save`
+    wrote (a file without one is read unchecked); no file, or damage (digest or Fletcher-32
+    mismatch, broken structure), is an InputError naming it."""
+    import h5py
+
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no result file at {path}; run the sweep first (periodyn sweep ... --out {path})")
-    import h5py
-
     try:
         with h5py.File(path, "r") as f:
             stored = f.attrs.get(_DIGEST)
             if stored is not None and (stored.decode() if isinstance(stored, bytes) else str(stored)) != _digest(f):
                 raise ValueError("its contents do not match the SHA-256 digest written with it")
-        with xr.open_dataset(path, engine=_ENGINE) as raw:
-            ds = raw.load()
+            return read(f)
     except (OSError, ValueError, KeyError, RuntimeError, TypeError, IndexError, UnicodeDecodeError) as exc:
         raise InputError(f"{path} is not a readable periodyn result file, or it is damaged ({type(exc).__name__}: "
                          f"{exc}); delete it and run the sweep again (without --resume)") from None
-    ds.attrs.pop(_DIGEST, None)
-    return _join_complex(ds)
 
 
 def options_attrs(options: dict) -> dict:
