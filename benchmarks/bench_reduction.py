@@ -55,11 +55,11 @@ def main():
         R.solve(omegas[:1], M_HARMONICS)  # jit, first ladders
         setup = time.perf_counter() - t0
         t0 = time.perf_counter()
-        exps, done, reasons = R.solve(omegas, M_HARMONICS)
+        exps, done, reasons, records = R.solve(omegas, M_HARMONICS)
         red_rate = omegas.size / (time.perf_counter() - t0)
         G = exps.real.max(axis=1) * 2 * np.pi / omegas
-        bounds = [float(r.rsplit("bound ", 1)[1]) for r in reasons[done]]
-        modes = sorted({int(r.split(": ")[1].split(" of")[0]) for r in reasons[done]})
+        bounds = records["stability_error_bound"][done].tolist()
+        modes = sorted(set(records["reduced_modes"][done].tolist()))
         count = FULL_SPEEDS.get(el, omegas.size) if el <= min(args.full_max, 64) else 0
         full_rate, full_err, diff = float("nan"), float("nan"), float("nan")
         if count:

@@ -16,12 +16,18 @@ variable                dims                                meaning
 ``status``              (*P, omega)                         0 solved, 1 failed (see ``message``)
 ``message``             (*P, omega)                         why a point failed ('' if solved)
 ``stability_method``    (*P, omega)                         stability method used ("auto" chooses per point)
+``reduced_modes``       (*P, omega)                         modes k of method "reduced" (0: not used there)
+``reduced_correction``  (*P, omega)                         its largest Schur correction |d_lambda|, 1/s
+``stability_error_bound`` (*P, omega)                       its bound on max_real_exponent * period
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
 ``output_units`` along output (the unit of each output, "" where the model does not say),
 ``exponent`` (index 0..2n-1), and ``omega_over_<ref>`` along omega when the sweep has a
-reference frequency. Failed points hold NaN and ``stable = False``.
+reference frequency. Failed points hold NaN and ``stable = False``. The columns of
+:data:`STABILITY_RECORDS` are in every sweep; where the method "reduced" did not certify
+the point (another method, a speed it handed on, no stability) they hold their fill
+values: ``reduced_modes`` 0, the two floats NaN.
 
 :data:`_LAYOUT` below is the one definition of this layout: :func:`empty_columns` (the
 per-point columns a sweep fills) and :func:`to_dataset` (the dataset) both read it.
@@ -40,6 +46,7 @@ import os
 import platform
 from importlib import metadata
 from pathlib import Path
+from typing import Callable, TypeVar
 
 import numpy as np
 import xarray as xr
@@ -47,8 +54,9 @@ import xarray as xr
 from .errors import InputError
 
 __all__ = ["load", "save", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
-           "STATUS_FAILED"]
+           "STATUS_FAILED", "STABILITY_RECORDS", "load_groups"]
 
+_T = TypeVar("_T")
 STATUS_SOLVED = 0
 STATUS_FAILED = 1
 _PART = "part"
@@ -135,20 +143,22 @@ def _digest(f) -> str:
     return digest.hexdigest()
 
 
-def save(ds: xr.Dataset, path) -> Path:
-    """Write a sweep dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
+def save(ds: xr.Dataset, path, groups: dict[str, xr.Dataset] | None = None) -> Path:
+    """Write a result dataset to ``path`` (netCDF-4 via h5netcdf, every variable with a
     Fletcher-32 checksum and the file's contents with a SHA-256 digest, attribute
     ``periodyn_sha256``) atomically: the file is written beside the target and renamed,
-    so a crash never leaves half a file. An OS error (no space, no permission) is an
-    InputError naming the path and the fix."""
+    so a crash never leaves half a file. groups: {name: dataset} written as netCDF groups
+    beside ``ds`` in the root (read them with :func:`load_groups`). An OS error (no space,
+    no permission) is an InputError naming the path and the fix."""
     import h5py
 
     path = Path(path)
     tmp = path.with_name(f"{path.name}.{os.getpid()}.partial")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        split = _split_complex(ds)
-        split.to_netcdf(tmp, engine=_ENGINE, encoding=_checksummed(split))
+        for i, (group, part) in enumerate([(None, ds), *(groups or {}).items()]):
+            split = _split_complex(part)
+            split.to_netcdf(tmp, mode="a" if i else "w", group=group, engine=_ENGINE, encoding=_checksummed(split))
         with h5py.File(tmp, "r+") as f:
             f.attrs[_DIGEST] = _digest(f)
         os.replace(tmp, path)
@@ -163,25 +173,45 @@ def save(ds: xr.Dataset, path) -> Path:
 
 
 def load(path) -> xr.Dataset:
-    """Read a sweep result file written by :func:`save` (complex variables restored); a
+    """Read a result file written by :func:`save` (complex variables restored); a
     damaged file (checksum mismatch, broken structure) is an InputError naming it."""
+    return _checked(path, lambda f: _open(path, None))
+
+
+def load_groups(path) -> tuple[xr.Dataset, dict[str, xr.Dataset]]:
+    """The root dataset and {name: dataset} of every netCDF group of a file written by
+    :func:`save` with ``groups`` (checked and restored as :func:`load`)."""
+    import h5py
+
+    return _checked(path, lambda f: (_open(path, None), {name: _open(path, name) for name, obj in f.items()
+                                                         if isinstance(obj, h5py.Group)}))
+
+
+def _open(path: Path, group: str | None) -> xr.Dataset:
+    with xr.open_dataset(path, engine=_ENGINE, group=group) as raw:
+        ds = raw.load()
+    ds.attrs.pop(_DIGEST, None)
+    return _join_complex(ds)
+
+
+def _checked(path, read: Callable[..., _T]) -> _T:
+    """``read(f)`` (f: the open h5py file) after checking the SHA-256 digest :func:`save`
+    wrote (a file without one is read unchecked); no file, or damage (digest or Fletcher-32
+    mismatch, broken structure), is an InputError naming it."""
+    import h5py
+
     path = Path(path)
     if not path.is_file():
         raise InputError(f"no result file at {path}; run the sweep first (periodyn sweep ... --out {path})")
-    import h5py
-
     try:
         with h5py.File(path, "r") as f:
             stored = f.attrs.get(_DIGEST)
             if stored is not None and (stored.decode() if isinstance(stored, bytes) else str(stored)) != _digest(f):
                 raise ValueError("its contents do not match the SHA-256 digest written with it")
-        with xr.open_dataset(path, engine=_ENGINE) as raw:
-            ds = raw.load()
+            return read(f)
     except (OSError, ValueError, KeyError, RuntimeError, TypeError, IndexError, UnicodeDecodeError) as exc:
         raise InputError(f"{path} is not a readable periodyn result file, or it is damaged ({type(exc).__name__}: "
                          f"{exc}); delete it and run the sweep again (without --resume)") from None
-    ds.attrs.pop(_DIGEST, None)
-    return _join_complex(ds)
 
 
 def options_attrs(options: dict) -> dict:
@@ -216,7 +246,20 @@ _LAYOUT = (
     ("message", (), "", {"long_name": "why the point failed, empty if solved"}),
     ("stability_method", (), "", {"long_name": "stability method used at the point (what method 'auto' chose; "
                                                "empty without stability or where the point failed)"}),
+    ("reduced_modes", (), np.int32(0),
+     {"long_name": "mean-system modes kept by stability method 'reduced' at the point (0 where it did not "
+                   "certify the point: another method, a speed it handed on, no stability or a failed point)",
+      "units": "1"}),
+    ("reduced_correction", (), np.nan,
+     {"long_name": "largest Schur-complement correction |d_lambda| of the exponents corrected by method 'reduced' "
+                   "(NaN where it did not certify the point)", "units": "1/s"}),
+    ("stability_error_bound", (), np.nan,
+     {"long_name": "certified bound of the error of max_real_exponent * period (log of the largest multiplier "
+                   "modulus) by method 'reduced': ladder error + 2 |d_lambda| period (NaN where it did not "
+                   "certify the point)", "units": "1"}),
 )
+#: per-speed columns a stability method may record (``choose``'s records), with their fill values
+STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-3:]}
 
 
 def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:

@@ -23,6 +23,7 @@ from .harmonic.balance import periodic_solution
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
+from .results import STABILITY_RECORDS
 from .system import OmegaSplitModel, RheoLinear
 from .stability.magnus import half_period_signs
 
@@ -85,7 +86,9 @@ class SpeedBatch:
     """Results at S speeds, columnar (the fields of :class:`PointResult` with a leading
     speed axis). message: (S,) str, empty where the point was solved, else why it failed
     (its stability entries are then NaN and ``stable`` False); method: (S,) str, the
-    stability method used at each speed ("" without stability)."""
+    stability method used at each speed ("" without stability); reduced_modes,
+    reduced_correction (1/s), stability_error_bound: (S,) what the method "reduced" records
+    (:data:`periodyn.results.STABILITY_RECORDS`, their fill values where it did not certify)."""
 
     omega: np.ndarray
     output_names: tuple[str, ...]
@@ -99,6 +102,9 @@ class SpeedBatch:
     stable: np.ndarray
     message: np.ndarray
     method: np.ndarray
+    reduced_modes: np.ndarray
+    reduced_correction: np.ndarray
+    stability_error_bound: np.ndarray
 
     def __len__(self) -> int:
         return self.omega.shape[0]
@@ -120,7 +126,8 @@ class SpeedBatch:
                                                                          "residual", "exponents", "multipliers",
                                                                          "max_real", "stable")),
                    np.asarray(messages, dtype=str), np.array([p.method if p is not None else "" for p in points],
-                                                             dtype=str))
+                                                             dtype=str),
+                   *(np.full(len(points), fill) for fill in STABILITY_RECORDS.values()))
 
     def point(self, i: int) -> PointResult:
         """The PointResult of speed i."""
@@ -237,7 +244,7 @@ class SpeedSolver:
         harmonics = spectrum[:, M - self.m: M + self.m + 1]
         if self.stability:
             finite = np.isfinite(q).reshape(S, -1).all(axis=1) & np.isfinite(half).reshape(S, -1).all(axis=1)
-            exps, message, methods = self.speed_stability.solve(w, (balance_message == "") & finite)
+            exps, message, methods, records = self.speed_stability.solve(w, (balance_message == "") & finite)
             multipliers = np.exp(exps * (2 * np.pi / w)[:, None])
             max_real = exps.real.max(axis=1)
             stable = is_stable(max_real, 2 * np.pi / w)  # False where NaN (failed)
@@ -245,13 +252,15 @@ class SpeedSolver:
             exps = multipliers = np.full((S, 2 * self.model.n), np.nan + 0j)
             max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)
             methods = message
+            records = {name: np.full(S, fill) for name, fill in STABILITY_RECORDS.items()}
         failed = balance_message != ""  # no periodic solution: the point fails with the HB's reason
+        recorded = (np.where(failed, fill, records[name]) for name, fill in STABILITY_RECORDS.items())
         message = np.where(failed, balance_message, message)
         columns = (np.where(failed.reshape((S,) + (1,) * (a.ndim - 1)), np.nan, a)
                    for a in (harmonics, half.reshape(S, n_out), mean.reshape(S, n_out), residual, exps, multipliers,
                              max_real))
         return SpeedBatch(w, self.model.output_names, *columns, stable & ~failed, message.astype(str),
-                          methods.astype(str))
+                          methods.astype(str), *recorded)
 
 
 def check_speeds(omegas) -> np.ndarray:

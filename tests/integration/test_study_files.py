@@ -204,3 +204,30 @@ def test_given_speeds_refuse_a_parameter_curve(tmp_path, capsys):
                                 'omega = { values = [2.5, 3.0], unit = "rad/s" }'))
     assert main(["sweep", str(bad), "--out", str(tmp_path / "bad.nc")]) == 2
     assert "[continuation] parameter: needs a continuation over omega = { start, stop }" in capsys.readouterr().err
+
+
+def test_a_damaged_study_file_is_a_read_error_naming_it(tmp_path, capsys):
+    """Continuation study files carry the checksums of every result file (Fletcher-32 per
+    variable, a SHA-256 digest): inverted bytes in a branch's data are a clear error on
+    load and on --resume, never a wrong branch."""
+    import h5py
+
+    from periodyn.errors import InputError
+
+    small = small_study(project_root() / "sweeps" / "dae_rod_pendulum.toml", tmp_path, harmonics=2, max_points=4)
+    out = tmp_path / "rod.nc"
+    assert main(["sweep", str(small), "--omega", "3.0:3.3:2", "--out", str(out), "-q"]) == 0
+    load_study(out)
+    with h5py.File(out, "r") as f:
+        assert "periodyn_sha256" in f.attrs and f["frequency/amplitude"].fletcher32
+        info = f["frequency/amplitude"].id.get_chunk_info(0)
+    data = bytearray(out.read_bytes())
+    end = info.byte_offset + min(info.size, 4096)
+    data[info.byte_offset:end] = bytes(b ^ 0xFF for b in data[info.byte_offset:end])
+    out.write_bytes(bytes(data))
+    with pytest.raises(InputError, match=f"{out} is not a readable periodyn result file, or it is damaged"):
+        load_study(out)
+    capsys.readouterr()
+    assert main(["sweep", str(small), "--omega", "3.0:3.3:2", "--out", str(out), "--resume", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "damaged" in err and str(out) in err and "Traceback" not in err

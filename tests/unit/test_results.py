@@ -13,7 +13,7 @@ import xarray as xr
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
 from periodyn.studies.spec import ensure
-from periodyn.results import load, save
+from periodyn.results import load, load_groups, save
 from periodyn.engine.front import sweep
 
 SWEEP_FILE = """
@@ -66,6 +66,23 @@ def test_load_names_missing_and_broken_files(tmp_path):
 def test_save_leaves_no_partial_file(result, tmp_path):
     save(result, tmp_path / "a" / "r.nc")
     assert [p.name for p in (tmp_path / "a").iterdir()] == ["r.nc"]
+
+
+def test_groups_round_trip_checksummed(result, tmp_path):
+    """A file of several datasets (root + netCDF groups) round-trips exactly, every group's
+    variables carry Fletcher-32 and one digest covers them all: a changed byte in a group is
+    the same clear error as in a sweep file."""
+    root = xr.Dataset(attrs={"what": "two sweeps"})
+    path = save(root, tmp_path / "g.nc", {"a": result, "b": result.isel(omega=slice(0, 3))})
+    back_root, groups = load_groups(path)
+    assert back_root.attrs["what"] == "two sweeps" and set(groups) == {"a", "b"}
+    xr.testing.assert_identical(groups["a"], result)
+    xr.testing.assert_identical(groups["b"], result.isel(omega=slice(0, 3)))
+    with h5py.File(path, "r+") as f:
+        assert f["b/harmonics"].fletcher32
+        f["b/residual"][0] += 1.0  # a consistent change: Fletcher-32 rewritten, the digest is not
+    with pytest.raises(InputError, match=f"{path} is not a readable periodyn result file, or it is damaged.*SHA-256"):
+        load_groups(path)
 
 
 def test_ensure_computes_once_then_reads(tmp_path, monkeypatch):

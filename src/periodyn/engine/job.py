@@ -17,7 +17,7 @@ import numpy as np
 
 from ..speeds import SpeedBatch, SpeedSolver, solve_point
 from ..errors import ConvergenceError, InputError
-from ..results import STATUS_SOLVED, empty_columns
+from ..results import STABILITY_RECORDS, STATUS_SOLVED, empty_columns
 from ..system import OmegaSplitModel, RheoLinear
 
 __all__ = ["ModelSource", "Job", "reference_frequencies", "describe"]
@@ -228,7 +228,8 @@ class Job:
                              ("harmonics", batch.output_harmonics), ("residual", batch.residual),
                              ("max_real_exponent", batch.max_real), ("exponents", batch.exponents),
                              ("multipliers", batch.multipliers), ("stable", batch.stable),
-                             ("stability_method", batch.method)):
+                             ("stability_method", batch.method),
+                             *((name, getattr(batch, name)) for name in STABILITY_RECORDS)):
             out[name][rows[solved]] = column[solved]
         out["status"][rows[solved]] = STATUS_SOLVED
 

@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..harmonic.batch_balance import DENSE_TERMS_BYTES
 from ..harmonic.operator import HarmonicOperator
+from ..results import STABILITY_RECORDS
 from ..system import OmegaSplitModel
 from .floquet import TRUNCATION_TOL, TruncationWarning, truncation_message
 from .hill import dense_exponents_batch
@@ -64,10 +65,18 @@ class SpeedStability:
     def choose(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Method names (S,), reasons (S,), exponents (S, 2n) and whether they are solved
         already (S,) at speeds w."""
-        if self.method.choose is not None:
-            return self.method.choose(self, w)
-        return (np.full(w.size, self.method.name, dtype=object), np.full(w.size, "requested", dtype=object),
-                np.full((w.size, 2 * self.n), np.nan + 0j), np.zeros(w.size, dtype=bool))
+        return self._choose(w)[:4]
+
+    def _choose(self, w: np.ndarray) -> tuple:
+        """:meth:`choose` and the per-speed records ({column: (S,)}, every column of
+        STABILITY_RECORDS, fill values where the method records none)."""
+        records = {name: np.full(w.size, fill) for name, fill in STABILITY_RECORDS.items()}
+        if self.method.choose is None:
+            return (np.full(w.size, self.method.name, dtype=object), np.full(w.size, "requested", dtype=object),
+                    np.full((w.size, 2 * self.n), np.nan + 0j), np.zeros(w.size, dtype=bool), records)
+        names, reasons, exps, solved, *recorded = self.method.choose(self, w)
+        records.update(recorded[0] if recorded else {})
+        return names, reasons, exps, solved, records
 
     def costs(self, w: np.ndarray, base: float) -> np.ndarray:
         """Estimated seconds (S,) of each speed whose harmonic balance costs ``base`` s."""
@@ -75,12 +84,14 @@ class SpeedStability:
             return np.full(w.size, base)
         return self.method.sweep_cost(self, w, base)
 
-    def solve(self, w: np.ndarray, judged: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Exponents (S, 2n) (NaN where failed), failure messages (S,) and the method used
-        (S,) at speeds w. A Hill result whose truncation indicator is above TRUNCATION_TOL
-        fails with a message and a TruncationWarning where ``judged`` (S,) (default: all; a
-        sweep leaves out speeds whose periodic solution failed already)."""
-        names, _, exps, solved = self.choose(w)
+    def solve(self, w: np.ndarray, judged: np.ndarray | None = None
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """Exponents (S, 2n) (NaN where failed), failure messages (S,), the method used (S,)
+        and the per-speed records ({column of STABILITY_RECORDS: (S,)}) at speeds w. A Hill
+        result whose truncation indicator is above TRUNCATION_TOL fails with a message and a
+        TruncationWarning where ``judged`` (S,) (default: all; a sweep leaves out speeds
+        whose periodic solution failed already)."""
+        names, _, exps, solved, records = self._choose(w)
         message = np.full(w.size, "", dtype=object)
         edge = np.full(w.size, np.nan)
         for name in dict.fromkeys(names[~solved]):
@@ -101,7 +112,7 @@ class SpeedStability:
         if truncated.size:
             warnings.warn(f"{truncated.size} of {w.size} speeds failed: {message[truncated[0]]}", TruncationWarning,
                           stacklevel=3)
-        return exps, message, names
+        return exps, message, names, records
 
     def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exponents (S, 2n), messages (S,) and Hill truncation indicators (S,) (NaN without Hill)."""

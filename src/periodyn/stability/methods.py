@@ -45,8 +45,10 @@ class StabilityMethod:
     exponents(system, operator, steps=None) -> FloquetExponents at one speed: ``system`` the
     RheoLinear (None unless ``system``), ``operator`` its HillOperator (None unless
     ``operator``), ``steps`` fixed Magnus steps per period (None: the method's default).
-    choose(stage, w) -> (names (S,), reasons (S,), exponents (S, 2n), solved (S,)): a method
-    that hands each speed w (S,) rad/s to another one (``delegates``) or solves it itself.
+    choose(stage, w) -> (names (S,), reasons (S,), exponents (S, 2n), solved (S,)[, records]):
+    a method that hands each speed w (S,) rad/s to another one (``delegates``) or solves it
+    itself; ``records`` ({column: (S,) values}, optional) are per-speed columns of the
+    results (:data:`periodyn.results.STABILITY_RECORDS`).
     prepare(model) -> per-model data kept by a sweep (``stage.prepared(name)``).
     batch(stage, w) -> (exponents (S, 2n), messages (S,)[, Hill truncation indicators (S,)]):
     a chunk of speeds at once.
@@ -247,7 +249,7 @@ def _reduced_exponents(system: RheoLinear, op: HillOperator, steps=None) -> Floq
     """Stability method "reduced" at one system (its own mean modes, m from the operator);
     a speed it does not certify goes to "auto" on the full system."""
     w = np.array([float(system.omega)])
-    exps, done, reasons = ReducedStability(system_model(system)).solve(w, op.m)
+    exps, done, reasons, _ = ReducedStability(system_model(system)).solve(w, op.m)
     if not done[0]:
         fl = auto_exponents(system, op)
         return FloquetExponents(fl.omega, fl.exponents, fl.centroid, fl.edge, fl.method,

@@ -214,12 +214,17 @@ class ReducedStability:
         return out, G, bound, largest, ""
 
     def solve(self, w: np.ndarray, m: int):
-        """Exponents (S, 2n), certified (S,) and reasons (S,) at speeds w (S,) rad/s with m
-        harmonics (each speed's result independent of the others)."""
+        """Exponents (S, 2n), certified (S,), reasons (S,) and the per-speed records
+        {``reduced_modes``: k (0 where not certified), ``reduced_correction``: largest
+        |d_lambda| 1/s, ``stability_error_bound``: bound of max Re(lambda) T (NaN where not
+        certified)} (S,) at speeds w (S,) rad/s with m harmonics (each speed's result
+        independent of the others)."""
         S = w.size
         exps = np.full((S, 2 * self.n), np.nan + 0j)
         done = np.zeros(S, bool)
         reasons = np.full(S, "", dtype=object)
+        records = {"reduced_modes": np.zeros(S, np.int32), "reduced_correction": np.full(S, np.nan),
+                   "stability_error_bound": np.full(S, np.nan)}
         k = np.array([guarded_modes(self.modes, min(START_MODES, self.n), m, wi) for wi in w])
         small = k >= self.n
         reasons[small] = f"{self.n} coordinates: no modes to leave out"
@@ -236,12 +241,15 @@ class ReducedStability:
                     exps[s, : 2 * kk] = out
                     exps[s, 2 * kk:] = self.truncated_exponents(w[s], int(kk))
                     done[s] = True
+                    records["reduced_modes"][s] = kk
+                    records["reduced_correction"][s] = dl * w[s] / (2 * np.pi)
+                    records["stability_error_bound"][s] = bound
                     reasons[s] = (f"reduced: {kk} of {self.n} modes, ladder error {est.error[j]:.1g}, "
                                   f"correction {dl:.2g} per period, bound {bound:.2g}")
             todo = np.array([s for s in todo if not done[s] and 2 * k[s] < self.n], dtype=int)
             k[todo] *= 2
         order = np.lexsort((exps.imag, exps.real), axis=-1)
-        return np.take_along_axis(exps, order, -1), done, reasons
+        return np.take_along_axis(exps, order, -1), done, reasons, records
 
 
 def system_model(system: RheoLinear) -> OmegaSplitModel:
@@ -251,7 +259,8 @@ def system_model(system: RheoLinear) -> OmegaSplitModel:
 
 
 def reduced_choices(stage, w: np.ndarray):
-    """"reduced" per speed in a sweep: certified speeds solved, the others named "auto"."""
-    exps, done, reasons = stage.prepared("reduced").solve(w, stage.m)
+    """"reduced" per speed in a sweep: certified speeds solved, the others named "auto";
+    k, the correction and the bound recorded per speed (the fill values elsewhere)."""
+    exps, done, reasons, records = stage.prepared("reduced").solve(w, stage.m)
     names = np.where(done, "reduced", "auto").astype(object)
-    return names, reasons, exps, done
+    return names, reasons, exps, done, records

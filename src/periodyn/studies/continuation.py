@@ -41,7 +41,6 @@ notes), each branch is a group ("frequency", "parameter", "period_doubled") writ
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -261,41 +260,28 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
 
 
 def _write(out: Path, spec: StudySpec, stamp: dict, branches: dict, notes: list[str]) -> None:
-    """One netCDF file: study attributes in the root group, one group per branch (atomic rename)."""
-    from ..results import _ENGINE, _split_complex, package_versions
+    """One netCDF file: study attributes in the root group, one group per branch (atomic,
+    checksummed as every result file: :func:`periodyn.results.save`)."""
+    from ..results import package_versions, save
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f"{out.name}.{os.getpid()}.partial")
     attrs = {"study": spec.name, "model": spec.example, "description": spec.description,
              "study_file_text": spec.text, "branches": ",".join(branches),
              "notes": "; ".join(notes), "versions": json.dumps(package_versions()), **stamp}
-    try:
-        xr.Dataset(attrs=attrs).to_netcdf(tmp, engine=_ENGINE, mode="w")
-        for key, branch in branches.items():
-            _split_complex(branch.to_dataset()).to_netcdf(tmp, engine=_ENGINE, mode="a", group=key)
-        os.replace(tmp, out)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    save(xr.Dataset(attrs=attrs), out, {key: branch.to_dataset() for key, branch in branches.items()})
 
 
 def _read(path: Path) -> dict:
     from ..arclength import Branch
-    from ..results import _ENGINE, _join_complex
+    from ..results import load_groups
 
+    root, groups = load_groups(path)
+    if "branches" not in root.attrs:
+        raise InputError(f"{path} is not a continuation study result (no branches); was it made by a speed "
+                         "sweep? give another --out file")
     try:
-        with xr.open_dataset(path, engine=_ENGINE) as root:
-            attrs = dict(root.attrs)
-        if "branches" not in attrs:
-            raise InputError(f"{path} is not a continuation study result (no branches); was it made by a speed "
-                             "sweep? give another --out file")
-        branches = {}
-        for key in attrs["branches"].split(","):
-            with xr.open_dataset(path, engine=_ENGINE, group=key) as raw:
-                branches[key] = Branch.from_dataset(_join_complex(raw.load()))
-    except (OSError, ValueError, KeyError) as exc:
+        return {key: Branch.from_dataset(groups[key]) for key in root.attrs["branches"].split(",")}
+    except (ValueError, KeyError) as exc:
         raise InputError(f"{path} is not a readable periodyn study file ({type(exc).__name__}: {exc})") from None
-    return branches
 
 
 def load_study(path) -> dict:

@@ -90,9 +90,9 @@ def test_certified_speeds_and_the_scalar_entry():
     model = crank(8)
     w = np.array([160.0, 230.0])
     ref = reference(model, w)
-    exps, done, reasons = ReducedStability(model).solve(w, 12)
+    exps, done, reasons, records = ReducedStability(model).solve(w, 12)
     assert done.all() and all(r.startswith("reduced: ") for r in reasons)
-    bounds = np.array([float(r.rsplit("bound ", 1)[1]) for r in reasons])
+    bounds = records["stability_error_bound"]
     G = exps.real.max(axis=1) * 2 * np.pi / w
     assert np.all(np.abs(G - ref) <= bounds) and np.all(np.abs(G - ref) <= 1e-8)
     fl = characteristic_exponents(model.at(230.0), 12, "reduced")
@@ -118,3 +118,31 @@ def test_a_sweep_records_the_reduced_method():
     ds = periodyn.sweep(model, w, 12, 64, stability="reduced", progress=False)
     assert list(ds["stability_method"].values) == ["reduced", "reduced"]
     assert np.allclose(ds["max_real_exponent"].values * 2 * np.pi / w, reference(model, w), rtol=0, atol=1e-8)
+
+
+def test_a_sweep_records_modes_correction_and_bound(tmp_path):
+    """A "reduced" sweep records k, |d_lambda| and the bound per speed; the bound covers
+    the true error of max Re(lambda) T against the full model's reference, the correction
+    is the one the reduced model's own certify step finds, and the columns survive
+    save/load; a sweep by another method holds the fill values."""
+    model = crank(8)
+    w = np.array([160.0, 230.0])
+    ds = periodyn.sweep(model, w, 12, 64, stability="reduced", progress=False)
+    k = ds["reduced_modes"].values
+    assert ds["reduced_modes"].dtype.kind == "i" and np.all((k > 0) & (k < model.n))
+    err = np.abs(ds["max_real_exponent"].values * 2 * np.pi / w - reference(model, w))
+    assert np.all(ds["stability_error_bound"].values >= err)
+    R = ReducedStability(model)
+    for i, wi in enumerate(w):
+        est = R.ladder(int(k[i])).solve(w[i:i + 1], np.inf)
+        dl = R.certify(wi, 12, int(k[i]), est.exponents[0], est.error[0])[3]
+        assert ds["reduced_correction"].values[i] == pytest.approx(dl * wi / (2 * np.pi), rel=1e-9)
+        assert ds["reduced_correction"].values[i] > 0
+    assert ds["stability_error_bound"].attrs["units"] == "1" and ds["reduced_correction"].attrs["units"] == "1/s"
+    back = periodyn.results.load(periodyn.results.save(ds, tmp_path / "reduced.nc"))
+    for name in ("reduced_modes", "reduced_correction", "stability_error_bound"):
+        np.testing.assert_array_equal(back[name].values, ds[name].values)
+        assert back[name].dtype == ds[name].dtype and back[name].attrs == ds[name].attrs
+    other = periodyn.sweep(model, w, 12, 64, stability="auto", progress=False)
+    assert np.all(other["reduced_modes"].values == 0)
+    assert np.isnan(other["reduced_correction"].values).all() and np.isnan(other["stability_error_bound"].values).all()
