@@ -1,8 +1,7 @@
 """Command line: ``periodyn sweep | figures | bench | warmup | info`` (see ``periodyn --help``).
 
 Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input or an OS error
-(a message naming the problem, the path and the fix, never a traceback), 130 interrupted
-(finished chunks are kept).
+(a message naming the problem, the path and the fix, never a traceback), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -387,5 +386,15 @@ def _interrupted(command: str) -> int:
     return 130
 
 
+def run() -> None:
+    """The console script: :func:`main`, then exit. After an interrupt (chunks saved, lock
+    released) at once: a pool abandoned mid-chunk can hold the exit on its result pipe."""
+    code = main()
+    if code == 130:
+        sys.stdout.flush(), sys.stderr.flush()
+        os._exit(130)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()
