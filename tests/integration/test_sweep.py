@@ -14,6 +14,7 @@ from periodyn.errors import ConvergenceError, InputError
 from periodyn.examples import pendulum
 from periodyn.results import STATUS_FAILED, STATUS_SOLVED, load
 from periodyn.engine.front import ExecutionOptions, sweep
+from tests.integration.datasets import without_attrs
 
 W0 = np.sqrt(9.81)
 OMEGA = W0 * np.linspace(0.1, 1.4, 24)
@@ -31,7 +32,7 @@ def serial(model):
 
 
 def data_only(ds: xr.Dataset) -> xr.Dataset:
-    return ds.drop_attrs()
+    return without_attrs(ds)
 
 
 def test_every_point_matches_the_speed_solver_and_solve_point(model, serial):

@@ -18,6 +18,7 @@ from periodyn.studies.spec import load_sweep_file
 from periodyn.engine import backends
 from periodyn.examples import pendulum
 from periodyn.engine.front import ExecutionOptions, sweep, sweep_file
+from tests.integration.datasets import without_attrs
 
 # long enough (dense Hill, ~10 s on one core) that the sweep is still running once its worker
 # has started: the sweep's own process never waits for a worker still starting
@@ -78,7 +79,7 @@ def test_sigkill_mid_sweep_then_resume_equals_uninterrupted(tmp_path):
     assert progress[0] >= (done_before + 1) * CHUNK  # checkpointed points were not recomputed
     assert not parts.exists() and out.is_file()
     uninterrupted = sweep_file(spec, progress=False)
-    xr.testing.assert_identical(resumed.drop_attrs(), uninterrupted.drop_attrs())
+    xr.testing.assert_identical(without_attrs(resumed), without_attrs(uninterrupted))
 
     deadline = time.monotonic() + 20
     while any(alive(pid) for pid in workers) and time.monotonic() < deadline:
@@ -90,7 +91,7 @@ def test_sigkill_mid_sweep_then_resume_equals_uninterrupted(tmp_path):
 def small():
     model = pendulum(samples=24)
     omega = np.sqrt(9.81) * np.linspace(0.2, 1.3, 30)
-    return model, omega, sweep(model, omega, 5, progress=False).drop_attrs()
+    return model, omega, without_attrs(sweep(model, omega, 5, progress=False))
 
 
 def test_dask_cluster_address_matches_serial(small):
@@ -100,13 +101,13 @@ def test_dask_cluster_address_matches_serial(small):
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         ds = sweep(model, omega, 5, execution=ExecutionOptions(cluster.scheduler_address, 4), progress=False)
     assert ds.attrs["backend"] == "dask"
-    xr.testing.assert_identical(ds.drop_attrs(), serial)
+    xr.testing.assert_identical(without_attrs(ds), serial)
 
 
 def test_dask_local_cluster_matches_serial(small):
     model, omega, serial = small
     ds = sweep(model, omega, 5, workers=2, execution=ExecutionOptions("local", 4), progress=False)
-    xr.testing.assert_identical(ds.drop_attrs(), serial)
+    xr.testing.assert_identical(without_attrs(ds), serial)
 
 
 def test_script_without_main_guard_runs_workers_once(tmp_path):
@@ -142,4 +143,4 @@ def test_serial_and_two_workers_bit_identical_on_shipped_sweeps(name, monkeypatc
     serial = sweep_file(spec, omega=omega, workers=1, progress=False)
     parallel = sweep_file(spec, omega=omega, workers=2, chunk_size=3, progress=False)
     assert parallel.attrs["backend"] == "processes"
-    xr.testing.assert_identical(serial.drop_attrs(), parallel.drop_attrs())
+    xr.testing.assert_identical(without_attrs(serial), without_attrs(parallel))

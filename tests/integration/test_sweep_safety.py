@@ -27,6 +27,7 @@ from periodyn.engine.session import lock_path
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
 from periodyn.results import load
+from tests.integration.datasets import without_attrs
 
 W0 = np.sqrt(9.81)
 OMEGA_A = W0 * np.linspace(0.2, 1.3, 20)
@@ -53,7 +54,7 @@ def model():
 
 @pytest.fixture(scope="module")
 def clean_a(model):
-    return sweep(model, OMEGA_A, M, progress=False).drop_attrs()
+    return without_attrs(sweep(model, OMEGA_A, M, progress=False))
 
 
 def interrupted(model, omega, out: Path, points: int) -> None:
@@ -78,8 +79,8 @@ def test_chunks_of_another_sweep_are_dropped_and_recomputed(model, clean_a, tmp_
         shutil.copy(chunk, parts_a / chunk.name)  # the other sweep's chunks, one over a chunk of A
     with pytest.warns(UserWarning, match="belongs to another sweep"):
         resumed = sweep(model, OMEGA_A, M, out=out_a, execution=CHUNK, resume=True, progress=False)
-    xr.testing.assert_identical(resumed.drop_attrs(), clean_a)
-    xr.testing.assert_identical(load(out_a).drop_attrs(), clean_a)
+    xr.testing.assert_identical(without_attrs(resumed), clean_a)
+    xr.testing.assert_identical(without_attrs(load(out_a)), clean_a)
 
 
 def test_a_chunk_at_other_points_is_dropped(model, clean_a, tmp_path):
@@ -96,7 +97,7 @@ def test_a_chunk_at_other_points_is_dropped(model, clean_a, tmp_path):
         resumed = sweep(model, OMEGA_A, M, out=out, execution=CHUNK, resume=True, progress=False)
     assert sorted(str(w.message).split(" holds ")[1].split(";")[0] for w in caught) == [
         "point indices outside this sweep", "points at other values of omega than this sweep's"]
-    xr.testing.assert_identical(resumed.drop_attrs(), clean_a)
+    xr.testing.assert_identical(without_attrs(resumed), clean_a)
 
 
 def test_a_chunk_without_a_fingerprint_is_not_used(model, clean_a, tmp_path):
@@ -109,7 +110,7 @@ def test_a_chunk_without_a_fingerprint_is_not_used(model, clean_a, tmp_path):
     np.savez(path, **chunk)
     with pytest.warns(UserWarning, match="no sweep fingerprint"):
         resumed = sweep(model, OMEGA_A, M, out=out, execution=CHUNK, resume=True, progress=False)
-    xr.testing.assert_identical(resumed.drop_attrs(), clean_a)
+    xr.testing.assert_identical(without_attrs(resumed), clean_a)
 
 
 # ----------------------------------------------------------------------------- lock
@@ -144,7 +145,7 @@ def test_second_sweep_on_one_out_is_refused_and_a_dead_holder_taken_over(model, 
         holder.wait()
     assert lock_path(out).exists()  # SIGKILL left the lock file: its lock died with the process
     ds = sweep(model, OMEGA_A, M, out=out, progress=False)
-    xr.testing.assert_identical(ds.drop_attrs(), clean_a)
+    xr.testing.assert_identical(without_attrs(ds), clean_a)
     assert not lock_path(out).exists()
 
 
