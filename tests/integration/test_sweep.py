@@ -31,10 +31,6 @@ def serial(model):
     return sweep(model, OMEGA, M, progress=False)
 
 
-def data_only(ds: xr.Dataset) -> xr.Dataset:
-    return without_attrs(ds)
-
-
 def test_every_point_matches_the_speed_solver_and_solve_point(model, serial):
     solver = SpeedSolver(model, M)
     for k in (0, 11, 23):
@@ -140,7 +136,7 @@ def test_parallel_processes_identical_to_serial():
     serial = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, progress=False)
     parallel = sweep(pendulum, OMEGA, M, samples=32, parameters=grid, workers=2,
                      execution=ExecutionOptions(chunk_size=5, eager_workers=True), progress=False)
-    xr.testing.assert_identical(data_only(parallel), data_only(serial))
+    xr.testing.assert_identical(without_attrs(parallel), without_attrs(serial))
     assert parallel.attrs["backend"] == "processes" and parallel.attrs["workers"] == 2
 
 
@@ -254,8 +250,8 @@ def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
                     progress=lambda d, t: calls.append(d))
     assert calls[0] == 15  # started from the 10 checkpointed points
     assert not parts.exists()
-    xr.testing.assert_identical(data_only(resumed), data_only(serial))
-    xr.testing.assert_identical(data_only(load(out)), data_only(serial))
+    xr.testing.assert_identical(without_attrs(resumed), without_attrs(serial))
+    xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))
     # resuming a finished sweep only reads it back
     again = sweep(model, OMEGA, M, out=out, resume=True, progress=lambda d, t: pytest.fail("recomputed"))
     xr.testing.assert_identical(again, load(out))
@@ -268,7 +264,7 @@ def test_failure_before_the_first_chunk_leaves_nothing_to_resume(model, serial, 
     assert not out.with_name("s.nc.parts").exists()
     out.with_name("s.nc.parts").mkdir()  # killed between creating the folder and its manifest
     ds = sweep(model, OMEGA, M, out=out, progress=False)
-    xr.testing.assert_identical(data_only(ds), data_only(serial))
+    xr.testing.assert_identical(without_attrs(ds), without_attrs(serial))
 
 
 def test_unreadable_chunk_is_recomputed(model, serial, tmp_path):
@@ -283,5 +279,5 @@ def test_unreadable_chunk_is_recomputed(model, serial, tmp_path):
     (chunk,) = out.with_name("s.nc.parts").glob("chunk-*.npz")
     chunk.write_bytes(chunk.read_bytes()[:100])
     resumed = sweep(model, OMEGA, M, out=out, execution=ExecutionOptions(chunk_size=5), resume=True, progress=False)
-    xr.testing.assert_identical(data_only(resumed), data_only(serial))
+    xr.testing.assert_identical(without_attrs(resumed), without_attrs(serial))
 
