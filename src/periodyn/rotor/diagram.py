@@ -36,6 +36,10 @@ _CHUNK_ENTRIES = 4_000_000      # complex entries of state matrices per eig batc
 #: sqrt(eps) |lambda|_max (a 2x2 Jordan block), in any direction, so the sign of its imaginary
 #: part means nothing; 64 sqrt(eps) ~ 1e-6 keeps a factor 64 over that rounding
 RIGID_TOL = 64.0 * float(np.sqrt(np.finfo(float).eps))
+#: a stiffness LU pivot below SINGULAR_PIVOT times the largest is a rigid-body direction:
+#: rounding leaves it near eps times the largest (1.3e-17 measured on a free shaft, where
+#: some LAPACK/SuperLU builds give an exact zero), a supported rotor's smallest is ~1e-4
+SINGULAR_PIVOT = 1e3 * float(np.finfo(float).eps)
 
 
 def _speeds(speeds) -> np.ndarray:
@@ -133,11 +137,16 @@ def _stiffness_lu(K, speed: float):
     from scipy.sparse.linalg import splu
 
     try:
-        return splu(K)
+        lu = splu(K)
+        pivots = np.abs(lu.U.diagonal())
+        singular = not pivots.min() > SINGULAR_PIVOT * pivots.max()
     except RuntimeError:   # exactly singular
+        singular = True
+    if singular:
         raise InputError(f"eigensolver='subset' needs a non-singular stiffness matrix, but it is singular at speed "
                          f"{speed:.6g} rad/s (an unsupported rotor: rigid-body modes at zero frequency); add "
-                         "bearings or use eigensolver='dense'") from None
+                         "bearings or use eigensolver='dense'")
+    return lu
 
 
 def _one_per_mode(lam):
