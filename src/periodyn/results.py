@@ -53,7 +53,7 @@ import xarray as xr
 
 from .errors import InputError
 
-__all__ = ["load", "save", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
+__all__ = ["load", "save", "root_attrs", "to_dataset", "empty_columns", "package_versions", "options_attrs", "STATUS_SOLVED",
            "STATUS_FAILED", "STABILITY_RECORDS", "load_groups"]
 
 _T = TypeVar("_T")
@@ -185,6 +185,13 @@ def load_groups(path) -> tuple[xr.Dataset, dict[str, xr.Dataset]]:
 
     return _checked(path, lambda f: (_open(path, None), {name: _open(path, name) for name, obj in f.items()
                                                          if isinstance(obj, h5py.Group)}))
+
+
+def root_attrs(path) -> dict:
+    """The root attributes of a netCDF file (no data read, no digest checked); OSError,
+    ValueError or RuntimeError (a damaged HDF5 structure) when it cannot be opened."""
+    with xr.open_dataset(path, engine=_ENGINE) as ds:
+        return dict(ds.attrs)
 
 
 def _open(path: Path, group: str | None) -> xr.Dataset:

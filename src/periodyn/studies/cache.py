@@ -16,8 +16,6 @@ import json
 import tomllib
 from pathlib import Path
 
-import xarray as xr
-
 from ..errors import InputError
 
 __all__ = ["FINGERPRINT", "KIND", "fingerprint", "stamp", "stored", "is_current", "finished", "discard_stale"]
@@ -42,11 +40,11 @@ def stamp(spec, omega=None) -> dict[str, str]:
 
 def stored(path) -> tuple[str | None, str | None]:
     """(fingerprint, kind) a result file carries; (None, None) when it has none or is unreadable."""
-    from ..results import _ENGINE
+    from ..results import root_attrs
 
     try:
-        with xr.open_dataset(path, engine=_ENGINE) as ds:
-            return ds.attrs.get(FINGERPRINT), ds.attrs.get(KIND)
+        attrs = root_attrs(path)
+        return attrs.get(FINGERPRINT), attrs.get(KIND)
     except (OSError, ValueError, KeyError, RuntimeError):  # RuntimeError: a damaged HDF5 structure
         return None, None
 

@@ -130,7 +130,7 @@ def run_campbell(spec: CampbellSpec, out, *, omega=None, resume: bool = False, *
     points = []
     for values in itertools.product(*spec.grid.values()):
         ds = campbell(spec.build(**dict(zip(names, values))), speeds, modes=spec.modes, frame=spec.frame,
-                      method=spec.eigensolver)
+                      eigensolver=spec.eigensolver)
         threshold = ds.attrs.pop("threshold_speed")
         points.append(ds.assign(threshold_speed=((), threshold, {"units": "rad/s"})))
     ds = _stack(points, names, list(spec.grid.values()))

@@ -21,7 +21,7 @@ from periodyn.examples import pendulum as pendulum_builder
 VALID = {
     "model": {"example": "pendulum", "parameters": {"zeta": 0.01, "eccentricity": 0.5}},
     "sweep": {"omega": {"start": 0.1, "stop": 1.4, "num": 20, "unit": "omega0"}, "harmonics": 4, "samples": 16,
-              "stability": True, "method": "auto"},
+              "stability": "auto"},
 }
 
 
@@ -120,7 +120,7 @@ def edit(path: tuple, value=None, delete=False) -> dict:
         (edit(("sweep", "omega", "unit"), delete=True), r"omega: missing unit; add unit = \"rad/s\""),
         (edit(("sweep", "omega", "unit"), "omega1"), r"unknown unit 'omega1'; use one of: rad/s, rpm, Hz, omega0"),
         (edit(("sweep", "stability"), "yes"), r"stability: must be true or false"),
-        (edit(("sweep", "method"), "sprase"), r"unknown method 'sprase'; did you mean 'sparse'\?"),
+        (edit(("sweep", "stability"), "sprase"), r"unknown method 'sprase'; did you mean 'sparse'\?"),
         (edit(("sweep",), delete=True), r"top level: missing required key 'sweep'"),
         (edit(("model", "parameters", "zeta"), "0.01"), r"\[model.parameters\] zeta: must be a number, got a string"),
         (edit(("model", "parameters", "zeta"), -0.5), r"\[model\] pendulum: pendulum zeta must be >= 0"),
