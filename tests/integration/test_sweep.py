@@ -223,7 +223,7 @@ def test_speed_costs_follow_the_stability_work(model):
     w = W0 * np.array([0.002, 0.02, 0.2, 1.0])
     auto = SpeedSolver(model, M).speed_costs(w)
     assert np.all(np.diff(auto) <= 0) and auto[0] > 3 * auto[-1]
-    fixed = SpeedSolver(model, M, method="magnus").speed_costs(w)
+    fixed = SpeedSolver(model, M, stability="magnus").speed_costs(w)
     assert np.all(fixed == fixed[0]) and fixed[0] > 0
 
 

@@ -48,7 +48,7 @@ def pendulum_sweep(method: str = "dense") -> dict:
     stability by dense Hill (or ``method``)."""
     model = periodyn.examples.pendulum(samples=64)
     r = np.linspace(0.1, 1.4, 15)
-    solver = SpeedSolver(model, 12, method=method)
+    solver = SpeedSolver(model, 12, stability=method)
     points = [solver.solve(x * model.metadata["omega0"]) for x in r]
     out = {"omega_over_omega0": r.tolist(), "amplitude": [float(p.amplitude[0]) for p in points],
            "mean": [float(p.mean[0]) for p in points], "max_real": [p.max_real for p in points]}
@@ -86,7 +86,7 @@ def slider_crank_sweep() -> dict:
     (dense Hill, m = 12) at 150 rad/s (Fig. 4), near the 1/5, 1/4 and 1/3 resonances and between."""
     model = periodyn.examples.slider_crank(0.02, 64)
     omega = [150.0, 166.0, 200.0, 250.0, 280.0]
-    solver = SpeedSolver(model, 12, method="dense")
+    solver = SpeedSolver(model, 12, stability="dense")
     points = [solver.solve(w) for w in omega]
     return {"omega": omega, "output_names": list(points[0].output_names),
             "amplitude": [p.amplitude.tolist() for p in points], "max_real": [p.max_real for p in points]}

@@ -202,7 +202,7 @@ def test_default_stability_method_gives_dense_hill_verdicts(shaft):
     with pytest.warns(TruncationWarning):
         auto = SpeedSolver(shaft, 12).solve_many(ratio * OMEGA_B)
     with pytest.warns(TruncationWarning):
-        dense = SpeedSolver(shaft, 12, method="dense").solve_many(ratio * OMEGA_B)
+        dense = SpeedSolver(shaft, 12, stability="dense").solve_many(ratio * OMEGA_B)
     assert list(auto.method) == ["dense"] + ["magnus"] * 10
     resolved = dense.message == ""
     assert list(resolved) == [False, False] + [True] * 9 and auto.message[0] == dense.message[0]

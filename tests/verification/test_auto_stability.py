@@ -26,7 +26,7 @@ def test_auto_verdicts_equal_dense_hill_on_every_shipped_sweep(name):
     plan = spec.plan()
     model = plan.model(**{k: v[-1] for k, v in plan.parameters.items()}) if plan.parameters else plan.model
     auto = SpeedSolver(model, spec.harmonics).solve_many(plan.omega)
-    dense = SpeedSolver(model, spec.harmonics, method="dense").solve_many(plan.omega)
+    dense = SpeedSolver(model, spec.harmonics, stability="dense").solve_many(plan.omega)
     assert (auto.message == "").all() and (dense.message == "").all()
     np.testing.assert_array_equal(auto.stable, dense.stable)
     assert set(auto.method) <= {"magnus", "dense"} and "magnus" in set(auto.method)
@@ -51,7 +51,7 @@ def test_auto_verdicts_at_the_pendulum_band_boundaries():
     speeds = np.concatenate([e * (1 + np.concatenate([-offsets, offsets])) for e in edges])
     batch = solver.solve_many(speeds)
     reference = np.array([_growth(model.at(w)) <= STABILITY_TOL for w in speeds])
-    dense = SpeedSolver(model, 12, method="dense").solve_many(speeds).stable
+    dense = SpeedSolver(model, 12, stability="dense").solve_many(speeds).stable
     np.testing.assert_array_equal(batch.stable, reference)
     np.testing.assert_array_equal(batch.stable, dense)
     assert "magnus" in set(batch.method)

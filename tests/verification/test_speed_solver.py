@@ -30,7 +30,7 @@ def test_speed_solver_equals_direct_path(builder, m, speeds, form):
 
 def test_speed_solver_sparse_exponents_match_monodromy():
     model = parametric_chain(4, samples=64)
-    solver = SpeedSolver(model, 12, method="sparse")
+    solver = SpeedSolver(model, 12, stability="sparse")
     for w in (15.0, 60.0):
         mono = periodyn.characteristic_exponents(model.at(w), 0, "monodromy")
         assert_same_spectrum(solver.solve(w).multipliers, mono.multipliers, atol=1e-8)
@@ -44,7 +44,7 @@ def test_speed_solver_rejects_bad_speed():
 
 def test_speed_solver_magnus_matches_dense_hill_on_the_slider_crank():
     model = periodyn.examples.slider_crank(damping=0.02, samples=64)
-    fast, hill = SpeedSolver(model, 12, method="magnus"), SpeedSolver(model, 12, method="dense")
+    fast, hill = SpeedSolver(model, 12, stability="magnus"), SpeedSolver(model, 12, stability="dense")
     for w in (150.0, 205.0, 268.0):
         a, b = fast.solve(w), hill.solve(w)
         assert_same_spectrum(a.multipliers, b.multipliers, atol=1e-6)
@@ -61,11 +61,11 @@ def test_solve_many_equals_speed_by_speed(builder, m, method, speeds):
     """Stacked chunks (and the speed-by-speed paths they fall back to) give each speed the
     result of solving it alone."""
     model = builder()
-    solver = SpeedSolver(model, m, method=method)
+    solver = SpeedSolver(model, m, stability=method)
     batch = solver.solve_many(speeds)
     assert len(batch) == speeds.size and (batch.message == "").all()
     for i, w in enumerate(speeds):
-        one, direct = solver.solve(w), solve_point(model.at(w), m, method=method)
+        one, direct = solver.solve(w), solve_point(model.at(w), m, stability=method)
         np.testing.assert_allclose(batch.output_harmonics[i], one.output_harmonics, rtol=0,
                                    atol=1e-13 * np.abs(one.output_harmonics).max())
         assert_same_spectrum(batch.multipliers[i], one.multipliers, atol=1e-12)
@@ -154,7 +154,7 @@ def test_sweep_across_an_undamped_resonance_flags_only_that_point():
     within rounding of it): the near-resonant point is failed with its reason in the
     dataset (status 1, message), the speeds around it are solved, with stability."""
     w = np.sort(np.r_[np.linspace(1.0, 2.0, 9), np.sqrt(2.0)])
-    ds = periodyn.sweep(_forced_oscillator(2.0), w, 3, stability=True, method="dense")
+    ds = periodyn.sweep(_forced_oscillator(2.0), w, 3, stability="dense")
     bad = np.isclose(ds.omega.values, np.sqrt(2.0), rtol=0, atol=1e-15)
     assert bad.sum() == 1 and ds.status.values[bad][0] == 1
     assert "undamped resonance" in str(ds.message.values[bad][0])
@@ -175,7 +175,7 @@ def test_unresolved_clusters_are_reported_per_speed(monkeypatch):
         found[omegas == 2.0] = count - 1  # pretend omega = 2 resolved one cluster too few
 
     monkeypatch.setattr(hill, "select_clusters_batch", lose_one)
-    solver = SpeedSolver(periodyn.examples.pendulum(samples=36), 6, method="dense")  # the Hill path
+    solver = SpeedSolver(periodyn.examples.pendulum(samples=36), 6, stability="dense")  # the Hill path
     batch = solver.solve_many([1.0, 2.0, 3.0])
     assert list(batch.message != "") == [False, True, False]
     assert "resolved 1 of 2 exponent clusters" in batch.message[1] and "increase harmonics" in batch.message[1]
@@ -193,9 +193,9 @@ def test_dense_hill_beyond_the_terms_budget_goes_speed_by_speed(monkeypatch):
 
     model = periodyn.examples.slider_crank(damping=0.02, samples=32)
     speeds = np.array([150.0, 220.0, 300.0])
-    stacked = SpeedSolver(model, 12, method="dense").solve_many(speeds)
+    stacked = SpeedSolver(model, 12, stability="dense").solve_many(speeds)
     monkeypatch.setattr(batch, "DENSE_TERMS_BYTES", 0.0)
-    solver = SpeedSolver(model, 12, method="dense")
+    solver = SpeedSolver(model, 12, stability="dense")
     one_by_one = solver.solve_many(speeds)
     assert not solver.dense_hill and "real_first_order_terms" not in solver.harmonic.__dict__
     assert (one_by_one.message == "").all()

@@ -153,8 +153,8 @@ def test_subset_solver_matches_dense():
 
     model = rotor(20)
     speeds = np.linspace(0.0, 900.0, 4)
-    dense = campbell(model, speeds, modes=8, method="dense")
-    subset = campbell(model, speeds, modes=8, method="subset")
+    dense = campbell(model, speeds, modes=8, eigensolver="dense")
+    subset = campbell(model, speeds, modes=8, eigensolver="subset")
     assert subset.attrs["frame"] == "stationary" and dense.attrs["frame"] == "rotating"
     np.testing.assert_allclose(subset.eigenvalue.values, dense.eigenvalue.values, rtol=1e-8)
     assert (subset.whirl.values == dense.whirl.values).all()
