@@ -232,6 +232,7 @@ def _cmd_campbell(args, spec, out: Path, title: str):
     import numpy as np
 
     from .plotting import plot_campbell
+    from .studies.campbell import unbalance_result
 
     _one_process(args, spec, "a Campbell study")
     if args.plot and spec.grid:
@@ -241,8 +242,12 @@ def _cmd_campbell(args, spec, out: Path, title: str):
     thresholds = np.atleast_1d(ds["threshold_speed"].values).ravel() * 30.0 / np.pi
     text = ", ".join(f"{t:.0f} rpm" if np.isfinite(t) else "none in range" for t in thresholds)
     grid = "".join(f" x {len(v)} {k}" for k, v in spec.grid.items())
+    response = unbalance_result(out) if spec.unbalance else None
+    critical = "" if response is None else ", unbalance response with damped critical speeds " + ", ".join(
+        f"{c * 30 / np.pi:.0f} rpm" for c in np.atleast_1d(response.attrs.get("critical_speeds", [])))
     return [f"{spec.example}: Campbell diagram, {ds.sizes['speed']} speeds x {ds.sizes['mode']} modes{grid}, "
-            f"stability threshold {text}, {elapsed:.1f} s; wrote {out}"], lambda: plot_campbell(ds, title)
+            f"stability threshold {text}{critical}, {elapsed:.1f} s; wrote {out}"], \
+        lambda: plot_campbell(ds, title, unbalance=response)
 
 
 # ----------------------------------------------------------------------------- scripts

@@ -29,7 +29,8 @@ from ..errors import InputError
 from .diagram import FORWARD, BACKWARD, campbell
 from .model import RotorModel
 
-__all__ = ["Unbalance", "unbalance_load", "unbalance_response", "synchronous_response", "static_deflection", "critical_speeds"]
+__all__ = ["Unbalance", "unbalance_load", "unbalance_response", "synchronous_response", "static_deflection",
+           "critical_speeds"]
 
 STANDARD_GRAVITY = 9.80665   # m/s^2
 _CHUNK_ENTRIES = 4_000_000   # complex matrix entries per batched solve
@@ -164,12 +165,14 @@ def synchronous_response(model: RotorModel, load, speeds, *, description: str = 
 def unbalance_response(model: RotorModel, unbalance, speeds) -> xr.Dataset:
     """Synchronous response to ``unbalance`` (an :class:`Unbalance` or a list of them,
     superposed) at spin speeds (S,) rad/s: the dataset of :func:`synchronous_response`,
-    attrs ``load`` the unbalances as JSON."""
+    attrs ``load`` (in words) and ``unbalance`` (JSON: station, mass, eccentricity, phase)."""
     model = _rotor(model)
     items = _unbalances(model, unbalance)
-    text = json.dumps([{"station": int(u.station), "mass": float(u.mass), "eccentricity": float(u.eccentricity),
-                        "phase": float(u.phase)} for u in items])
-    return synchronous_response(model, unbalance_load(model, items, speeds), speeds, description=text)
+    text = "unbalance " + "; ".join(f"{u.magnitude:.4g} kg m at station {u.station}, {u.phase:.4g} rad" for u in items)
+    ds = synchronous_response(model, unbalance_load(model, items, speeds), speeds, description=text)
+    ds.attrs["unbalance"] = json.dumps([{"station": int(u.station), "mass": float(u.mass),
+                                         "eccentricity": float(u.eccentricity), "phase": float(u.phase)} for u in items])
+    return ds
 
 
 def static_deflection(model: RotorModel, gravity=(0.0, -STANDARD_GRAVITY), *, speed: float = 0.0) -> xr.Dataset:
