@@ -18,29 +18,37 @@ from periodyn.rotor import Bearing, Rotor, campbell
 from periodyn.rotor.response import (Unbalance, critical_speeds, static_deflection, synchronous_response,
                                      unbalance_load, unbalance_response)
 
-ROSS = Path(__file__).parents[2] / "data" / "ross" / "table1_unbalance.json"
+ROSS = Path(__file__).parents[2] / "data" / "ross" / "unbalance_response.json"
 UNBALANCE = [Unbalance(4, 0.01, 0.01), Unbalance(5, 0.005, 0.01, np.pi / 3)]   # 1e-4 and 5e-5 kg m
 
 
-def _ross():
-    data = json.loads(ROSS.read_text())
+def _anisotropic():
+    r = Rotor("anisotropic")
+    r.add_shaft(0.0, 0.6, outer_diameter=0.04, E=2.1e11, density=7800.0, elements=3)
+    r.add_bearing(Bearing(0.0, kyy=4e6, kzz=1.5e6, kyz=2e5, cyy=300.0, czz=150.0))
+    r.add_bearing(Bearing(0.4, kyy=3e6, kzz=1e6, cyy=200.0, czz=400.0, czy=50.0))
+    r.add_disk(0.6, 5.0, 0.02, 0.012)
+    return r.compile()
+
+
+@pytest.mark.parametrize("case", ["table1", "anisotropic"])
+def test_unbalance_response_equals_ross_run_unbalance_response(case):
+    """ROSS 2.3 on the same models (tests/data/ross/unbalance_response.py regenerates the
+    data): every coordinate (y, z, ry, rz per station; ROSS's x, y, alpha, beta) and the
+    orbit's major axis, to 1e-6 of the largest entry per speed (measured: 1.5e-12). Table I
+    at 1000, 2130 (first critical speed), 4000, 10 000 and 18 700 rpm; a rotor on
+    anisotropic, cross-coupled bearings (elliptic orbits) at 1000 to 15 000 rpm."""
+    data = json.loads(ROSS.read_text())["cases"][case]
     X = np.array(data["response_real"]) + 1j * np.array(data["response_imag"])
     u = data["unbalance"]
     items = [Unbalance(n, 1.0, m, p) for n, m, p in zip(u["node"], u["magnitude"], u["phase"])]
-    return np.array(data["speeds_rpm"]), items, X
-
-
-def test_unbalance_response_equals_ross_run_unbalance_response():
-    """ROSS 2.3 on the same model (tests/data/ross/table1_unbalance.py regenerates the
-    data): every coordinate (y, z, ry, rz of the six stations; ROSS's x, y, alpha, beta)
-    at 1000, 2130 (first critical speed), 4000, 10 000 and 18 700 rpm, to 1e-6 of the
-    largest entry per speed (measured: 1.5e-12)."""
-    rpm, items, X = _ross()
-    assert rpm[2] == 4000.0
-    Y = unbalance_response(rotor(), items, rpm * np.pi / 30.0)["response"].values
-    for y, x in zip(Y, X):
+    rpm = np.array(data["speeds_rpm"])
+    assert case != "table1" or rpm[2] == 4000.0
+    ds = unbalance_response(rotor() if case == "table1" else _anisotropic(), items, rpm * np.pi / 30.0)
+    for y, x in zip(ds["response"].values, X):
         np.testing.assert_allclose(y, x, rtol=1e-6, atol=1e-6 * np.abs(x).max())
-    assert items[0].magnitude == UNBALANCE[0].magnitude == 1e-4
+    major = np.array(data["major_axis"])
+    np.testing.assert_allclose(ds["major_axis"].values, major, rtol=1e-6, atol=1e-6 * major.max())
 
 
 def test_isotropic_rotor_response_is_the_static_solution_of_the_co_rotating_equations():
@@ -60,15 +68,6 @@ def test_isotropic_rotor_response_is_the_static_solution_of_the_co_rotating_equa
         expected = np.empty(model.n, complex)
         expected[0::2], expected[1::2] = pair, -1j * pair
         np.testing.assert_allclose(x, expected, rtol=0, atol=1e-11 * np.abs(expected).max())
-
-
-def _anisotropic():
-    r = Rotor("anisotropic")
-    r.add_shaft(0.0, 0.6, outer_diameter=0.04, E=2.1e11, density=7800.0, elements=3)
-    r.add_bearing(Bearing(0.0, kyy=4e6, kzz=1.5e6, kyz=2e5, cyy=300.0, czz=150.0))
-    r.add_bearing(Bearing(0.4, kyy=3e6, kzz=1e6, cyy=200.0, czz=400.0, czy=50.0))
-    r.add_disk(0.6, 5.0, 0.02, 0.012)
-    return r.compile()
 
 
 @pytest.mark.parametrize("speed", [120.0, 400.0, 900.0])
