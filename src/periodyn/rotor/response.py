@@ -186,9 +186,9 @@ def static_deflection(model: RotorModel, gravity=(0.0, -STANDARD_GRAVITY), *, sp
     g = np.asarray(gravity, dtype=float)
     if g.shape != (2,) or not np.all(np.isfinite(g)):
         raise InputError(f"gravity must be the lateral acceleration (g_y, g_z) in m/s^2, got {gravity!r}")
-    w = float(_speeds(speed)[0]) if np.ndim(speed) == 0 else None
-    if w is None:
+    if np.ndim(speed) != 0:
         raise InputError(f"speed must be one spin speed >= 0 in rad/s, got {speed!r}")
+    w = float(_speeds(speed)[0])
     M, _, K = model.equations("stationary").at(w)
     rigid = np.zeros(model.n)
     rigid[0::4], rigid[1::4] = g

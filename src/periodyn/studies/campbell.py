@@ -43,7 +43,7 @@ from . import cache
 from .checks import FIXED_UNITS, Checker, FileSpec, parameter_check
 from ..errors import InputError
 
-__all__ = ["CampbellSpec", "parse_campbell", "run_campbell", "unbalance_result"]
+__all__ = ["CampbellSpec", "parse_campbell", "run_campbell", "unbalance_result", "campbell_summary"]
 
 _KEYS = ("speeds", "modes", "frame", "eigensolver", "grid", "unbalance")
 _UNBALANCE = ("station", "mass", "eccentricity", "phase")
@@ -195,3 +195,15 @@ def _stack(points: list[xr.Dataset], names: list[str], values: list[list]) -> xr
     size = len(points) // len(values[0])
     rows = [_stack(points[i * size:(i + 1) * size], names[1:], values[1:]) for i in range(len(values[0]))]
     return xr.concat(rows, dim=xr.Variable(names[0], values[0]), combine_attrs="drop_conflicts")
+
+
+def campbell_summary(ds: xr.Dataset, unbalance: xr.Dataset | None) -> str:
+    """One line on a Campbell result: the stability threshold per grid point (rpm) and,
+    with an ``unbalance`` response, its damped critical speeds (rpm)."""
+    thresholds = np.atleast_1d(ds["threshold_speed"].values).ravel() * 30.0 / np.pi
+    text = "stability threshold " + ", ".join(f"{t:.0f} rpm" if np.isfinite(t) else "none in range" for t in thresholds)
+    if unbalance is None:
+        return text
+    critical = np.atleast_1d(unbalance.attrs.get("critical_speeds", [])) * 30.0 / np.pi
+    return f"{text}, unbalance response with damped critical speeds " + (", ".join(f"{c:.0f} rpm" for c in critical)
+                                                                         or "none")
