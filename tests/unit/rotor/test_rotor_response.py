@@ -75,7 +75,8 @@ def test_anisotropic_rotor_response_equals_harmonic_balance_of_the_periodic_co_r
     """Anisotropic bearings make the co-rotating equations periodic in the spin angle;
     periodyn's harmonic balance of that periodic system with the (constant) unbalance load,
     turned back to the stationary frame, is the stationary frequency-domain response: an
-    ellipse, so the co-rotating solution holds harmonics 0 and -2 only (4 kept here)."""
+    ellipse, so the co-rotating solution holds harmonics 0 and +-2 only (4 kept here;
+    measured: 1e-13 apart, the other harmonics below 4e-14 of the largest)."""
     model = _anisotropic()
     unbalance = Unbalance(3, 0.002, 0.01, 0.7)
     ds = unbalance_response(model, unbalance, [speed])
@@ -93,7 +94,9 @@ def test_anisotropic_rotor_response_equals_harmonic_balance_of_the_periodic_co_r
     stationary[:, 0::2] = c[:, None] * q[:, 0::2] - s[:, None] * q[:, 1::2]
     stationary[:, 1::2] = s[:, None] * q[:, 0::2] + c[:, None] * q[:, 1::2]
     expected = np.real(X[None, :] * np.exp(1j * speed * t)[:, None])
-    np.testing.assert_allclose(stationary, expected, rtol=0, atol=1e-9 * np.abs(X).max())
+    np.testing.assert_allclose(stationary, expected, rtol=0, atol=1e-11 * np.abs(X).max())
+    size = np.abs(solution.harmonics).max(axis=1)                   # l = -4..4
+    assert size[[0, 1, 3, 5, 7, 8]].max() < 1e-12 * size.max() and size[[2, 6]].min() > 0.1 * size.max()
     assert ds["minor_axis"].values.min() < 0.9 * ds["major_axis"].values.min()   # elliptic orbits
 
 
