@@ -29,7 +29,8 @@ _PUBLIC = {
     "TruncationWarning": "stability.floquet",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",
     "ihb": "nonlinear.ihb_solver", "shooting": "nonlinear.shooting_solver", "element_outputs": "nonlinear.elements",
-    "solve_point": "speeds", "campbell": "rotor.diagram",
+    "solve_point": "speeds", "campbell": "rotor.diagram", "Unbalance": "rotor.response",
+    "unbalance_response": "rotor.response",
     # solutions
     "PeriodicSolution": "periodic", "FloquetExponents": "stability.floquet", "Transient": "averaging",
     "PointResult": "speeds",

@@ -229,20 +229,19 @@ def _cmd_transient(args, spec, out: Path, title: str):
 
 
 def _cmd_campbell(args, spec, out: Path, title: str):
-    import numpy as np
-
     from .plotting import plot_campbell
+    from .studies.campbell import campbell_summary, unbalance_result
 
     _one_process(args, spec, "a Campbell study")
     if args.plot and spec.grid:
         raise InputError(f"{spec.source}: --plot draws one rotor, but this study has a [campbell.grid] "
                          f"({', '.join(spec.grid)}); drop --plot and draw a grid point from the result file")
     ds, elapsed = _run(spec, out, omega=args.omega, resume=args.resume)
-    thresholds = np.atleast_1d(ds["threshold_speed"].values).ravel() * 30.0 / np.pi
-    text = ", ".join(f"{t:.0f} rpm" if np.isfinite(t) else "none in range" for t in thresholds)
+    response = unbalance_result(out)
     grid = "".join(f" x {len(v)} {k}" for k, v in spec.grid.items())
     return [f"{spec.example}: Campbell diagram, {ds.sizes['speed']} speeds x {ds.sizes['mode']} modes{grid}, "
-            f"stability threshold {text}, {elapsed:.1f} s; wrote {out}"], lambda: plot_campbell(ds, title)
+            f"{campbell_summary(ds, response)}, {elapsed:.1f} s; wrote {out}"], \
+        lambda: plot_campbell(ds, title, unbalance=response)
 
 
 # ----------------------------------------------------------------------------- scripts
