@@ -265,8 +265,8 @@ class SpeedSolver:
         q, residual, steps = self._reduced.solve_many(w, k)
         message = np.full(w.size, "", dtype=object)
         ok = (steps <= ITERATIONS) & np.isfinite(q).reshape(w.size, -1).all(axis=1)
-        row_scale, rhs = self.harmonic.balance_scales_many(w)
-        amplified = amplification(row_scale, q.reshape(w.size, -1), rhs)
+        amplified = amplification(self._reduced.row_scales(w), q.reshape(w.size, -1),
+                                  self._reduced.forcing(w).reshape(w.size, -1))
         for i in np.flatnonzero(ok):
             message[i] = balance_failure(w[i], residual[i], amplified[i], f"reduced, {k} modes")
         modes[ok] = k

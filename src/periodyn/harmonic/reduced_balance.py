@@ -37,7 +37,7 @@ ITERATIONS = 12  # residual evaluations before a speed is handed to the full sol
 
 class ReducedBalance:
     """Per-model data of the reduced HB: the full model's coefficients resampled on
-    P = band + 2m + 1 angles (stacked [M, C_0.., K_0..] per angle, (P, n, Pn n)), the mean
+    P = band + 2m + 1 angles (stacked [M, C_p.., K_p..] per angle, (P, n, (1 + Pc + Pk) n)), the mean
     modal diagonal and the kept block's HB operator per mode count (built on first use).
 
     model: the OmegaSplitModel; m: harmonics; band: the coefficient band of the full HB
@@ -58,7 +58,15 @@ class ReducedBalance:
 
         blocks = [sampled(Ms)] + [sampled(Cs[..., p]) for p in range(Cs.shape[-1])] + \
                  [sampled(Ks[..., p]) for p in range(Ks.shape[-1])]
-        self.powers = (Cs.shape[-1], Ks.shape[-1])
+        self.powers = Pc, Pk = Cs.shape[-1], Ks.shape[-1]
+        # per coordinate row, the largest coefficient of the terms of the HB matrix's rows per
+        # power of omega they multiply (stiffness; damping times m; mass times m^2), (PW, n)
+        self.row_terms = np.zeros((max(Pk, Pc + 1, 3), self.n))
+        for p in range(Pk):
+            self.row_terms[p] = np.abs(Ks[d + K, ..., p]).max(axis=(0, 2))
+        for p in range(Pc):
+            self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
+        self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
         self.stacked = np.ascontiguousarray(np.concatenate(blocks, axis=2))  # (P, n, (1 + Pc + Pk) n)
         a = np.arange(-m, m + 1)
         self.synthesis = np.exp(1j * np.outer(theta, a))  # (P, 2m+1): samples of sum_a x_a e^{i a theta}
@@ -74,6 +82,14 @@ class ReducedBalance:
         if k not in self._kept:
             self._kept[k] = HarmonicOperator.for_model(project(self.model, self.modes.shapes[:, :k]), self.m)
         return self._kept[k]
+
+    def row_scales(self, w: np.ndarray) -> np.ndarray:
+        """Per row of the HB matrix (complex basis, harmonic-major) the largest modulus of the
+        terms it sums, max_p |w|^p row_terms[p] (S, (2m+1) n), at speeds w (S,): the scales of
+        :func:`periodyn.harmonic.balance.amplification` (from the coefficients' magnitudes,
+        without the HB matrix)."""
+        scale = np.max(np.abs(w)[:, None, None] ** np.arange(len(self.row_terms))[:, None] * self.row_terms, axis=1)
+        return np.tile(scale, (1, 2 * self.m + 1))
 
     def forcing(self, w: np.ndarray) -> np.ndarray:
         """Force harmonics (S, 2m+1, n) at speeds w (S,)."""

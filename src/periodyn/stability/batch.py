@@ -47,7 +47,7 @@ class SpeedStability:
         used = [method_named(name) for name in (self.method.name, *self.method.delegates)]
         self._prepared = {}
         self.dense_hill = (any(entry.name == "dense" for entry in used)
-                           and 8.0 * len(harmonic.W) * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
+                           and 8.0 * harmonic.powers * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
 
     def prepared(self, name: str):
         """What method ``name``'s ``prepare`` builds for the model (once, on first use)."""
