@@ -20,7 +20,7 @@ from .stability.floquet import TRUNCATION_TOL, FloquetExponents, TruncationWarni
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import amplification, balance_failure
-from .harmonic.reduced_balance import ITERATIONS, ReducedBalance
+from .harmonic.reduced_balance import ReducedBalance
 from .harmonic.balance import periodic_solution
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
@@ -264,7 +264,7 @@ class SpeedSolver:
             return (*self.balance.solve_many(w, self.batch_balance), modes)
         q, residual, steps = self._reduced.solve_many(w, k)
         message = np.full(w.size, "", dtype=object)
-        ok = (steps <= ITERATIONS) & np.isfinite(q).reshape(w.size, -1).all(axis=1)
+        ok = (steps > 0) & np.isfinite(q).reshape(w.size, -1).all(axis=1)
         amplified = amplification(self._reduced.row_scales(w), q.reshape(w.size, -1),
                                   self._reduced.forcing(w).reshape(w.size, -1))
         for i in np.flatnonzero(ok):

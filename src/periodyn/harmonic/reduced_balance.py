@@ -120,7 +120,7 @@ class ReducedBalance:
 
     def solve_many(self, w: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Physical harmonics (S, 2m+1, n), relative residuals of the full HB equations (S,)
-        and the residual evaluations taken (S,; ITERATIONS + 1 where RTOL was not reached)
+        and the residual evaluations taken (S,; 0 where RTOL was not reached in ITERATIONS)
         at speeds w (S,) rad/s with k kept modes."""
         m, n, S = self.m, self.n, w.size
         Phi = self.modes.shapes
@@ -134,7 +134,7 @@ class ReducedBalance:
         q = np.zeros_like(x)
         r = f
         rel = np.full(S, np.inf)
-        steps = np.full(S, ITERATIONS + 1)
+        steps = np.zeros(S, dtype=int)
         todo = np.arange(S)
         for it in range(1, ITERATIONS + 1):
             rm = r @ Phi  # modal residual Phi^T r, (s, 2m+1, n)
