@@ -19,9 +19,8 @@ from .errors import ConvergenceError, InputError
 from .stability.floquet import TRUNCATION_TOL, FloquetExponents, TruncationWarning, is_stable, truncation_message
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
-from .harmonic.balance import amplification, balance_failure
+from .harmonic.balance import amplification, balance_failure, periodic_solution
 from .harmonic.reduced_balance import ReducedBalance
-from .harmonic.balance import periodic_solution
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
@@ -160,8 +159,8 @@ class SpeedSolver:
     deprecated name. With stability "reduced" (form "direct") the HB is the reduced one too
     (:mod:`periodyn.harmonic.reduced_balance`: the mean modes of the stability method, the
     residual of the full HB equations below its RTOL; a speed where it does not converge is
-    solved in full), ``reduced_balance`` True. ``solve(omega)`` gives the same :class:`PointResult` as
-    ``solve_point(model.at(omega), harmonics, stability, form=form)``.
+    solved in full), ``reduced_balance`` True. ``solve(omega)`` gives the same
+    :class:`PointResult` as ``solve_point(model.at(omega), harmonics, stability, form=form)``.
     """
 
     def __init__(self, model: OmegaSplitModel, harmonics: int, stability: bool | str = True,

@@ -15,11 +15,11 @@ lambda by the first Schur-complement term
 
 (r_h and s_h by products on 2K + 2m + 1 angles, linear in n - k; D_a^-1 by Jacobi sweeps
 on its diagonal, O(m (n-k)^2)), and the corrected growth per period is
-Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is certified when the bound is at most
-STABILITY_TOL max(1, |G|) and below the distance of G from the verdict's threshold;
-otherwise (also near a double exponent, y^H Q' x -> 0, where no centred null vector
-exists, or where a truncated mode's diagonal estimate comes near the top) the mode count
-doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
+Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is
+certified when the bound is at most STABILITY_TOL max(1, |G|) and below the distance of
+G from the verdict's threshold; otherwise (also near a double exponent, y^H Q' x -> 0,
+where no centred null vector exists, or where a truncated mode's diagonal estimate comes
+near the top) the mode count doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
 model. Exponents of the truncated modes are their mean diagonal estimates (roots of
 s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
 """
