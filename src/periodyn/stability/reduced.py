@@ -30,6 +30,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..model.reduce import guarded_modes, mean_modes
+from ..numerics.spectra import fourier_coefficients
 from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
@@ -113,10 +114,11 @@ class ReducedStability:
         self.model, self.n = model, model.n
         self.modes = mean_modes(model, reference_speed)
         Phi = self.modes.shapes
-        Ms, Cs, Ks = model._power_spectra[:3]
-        self.M = np.einsum("ni,knm,mj->kij", Phi, Ms, Phi, optimize=True)
-        self.C = np.einsum("ni,knmp,mj->kijp", Phi, Cs, Phi, optimize=True)
-        self.K = np.einsum("ni,knmp,mj->kijp", Phi, Ks, Phi, optimize=True)
+
+        def spectra(X):  # of the projected real samples X (..., p, n, n): (2K+1, n, n[, P])
+            return fourier_coefficients(np.moveaxis(Phi.T @ X @ Phi, 0, -1) if X.ndim == 4 else Phi.T @ X @ Phi)
+
+        self.M, self.C, self.K = spectra(model.mass), spectra(model.damping), spectra(model.stiffness)
         self._ladders: dict[int, _Ladder] = {}
         self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
 
