@@ -19,6 +19,7 @@ variable                dims                                meaning
 ``reduced_modes``       (*P, omega)                         modes k of method "reduced" (0: not used there)
 ``reduced_correction``  (*P, omega)                         its largest Schur correction |d_lambda|, 1/s
 ``stability_error_bound`` (*P, omega)                       its bound on max_real_exponent * period
+``balance_modes``       (*P, omega)                         modes kept by the reduced HB (0: full HB)
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
@@ -27,7 +28,7 @@ Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``outp
 reference frequency. Failed points hold NaN and ``stable = False``. The columns of
 :data:`STABILITY_RECORDS` are in every sweep; where the method "reduced" did not certify
 the point (another method, a speed it handed on, no stability) they hold their fill
-values: ``reduced_modes`` 0, the two floats NaN.
+values: ``reduced_modes`` 0, the two floats NaN; ``balance_modes`` is 0 where the full HB was solved.
 
 :data:`_LAYOUT` below is the one definition of this layout: :func:`empty_columns` (the
 per-point columns a sweep fills) and :func:`to_dataset` (the dataset) both read it.
@@ -264,9 +265,13 @@ _LAYOUT = (
      {"long_name": "certified bound of the error of max_real_exponent * period (log of the largest multiplier "
                    "modulus) by method 'reduced': ladder error + 2 |d_lambda| period (NaN where it did not "
                    "certify the point)", "units": "1"}),
+    ("balance_modes", (), np.int32(0),
+     {"long_name": "mean-system modes kept by the reduced harmonic balance at the point (its residual is that of "
+                   "the full HB equations; 0 where the full HB was solved)", "units": "1"}),
 )
-#: per-speed columns a stability method may record (``choose``'s records), with their fill values
-STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-3:]}
+#: per-speed columns of the reduced paths (``choose``'s records of a stability method, and the
+#: reduced HB's mode count), with their fill values
+STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-4:]}
 
 
 def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:

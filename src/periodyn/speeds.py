@@ -19,13 +19,16 @@ from .errors import ConvergenceError, InputError
 from .stability.floquet import TRUNCATION_TOL, FloquetExponents, TruncationWarning, is_stable, truncation_message
 from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
-from .harmonic.balance import periodic_solution
+from .harmonic.balance import amplification, balance_failure, periodic_solution
+from .harmonic.reduced_balance import ReducedBalance
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .results import STABILITY_RECORDS
 from .system import OmegaSplitModel, RheoLinear
 from .stability.magnus import half_period_signs
+from .stability.reduced import START_MODES
+from .model.reduce import guarded_modes
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
 
@@ -88,7 +91,8 @@ class SpeedBatch:
     (its stability entries are then NaN and ``stable`` False); method: (S,) str, the
     stability method used at each speed ("" without stability); reduced_modes,
     reduced_correction (1/s), stability_error_bound: (S,) what the method "reduced" records
-    (:data:`periodyn.results.STABILITY_RECORDS`, their fill values where it did not certify)."""
+    (:data:`periodyn.results.STABILITY_RECORDS`, their fill values where it did not certify);
+    balance_modes: (S,) modes kept by the reduced HB (0 where the full HB solved the speed)."""
 
     omega: np.ndarray
     output_names: tuple[str, ...]
@@ -105,6 +109,7 @@ class SpeedBatch:
     reduced_modes: np.ndarray
     reduced_correction: np.ndarray
     stability_error_bound: np.ndarray
+    balance_modes: np.ndarray
 
     def __len__(self) -> int:
         return self.omega.shape[0]
@@ -151,8 +156,11 @@ class SpeedSolver:
     then treats a chunk of speeds with stacked LAPACK calls and jitted kernels; the
     large-system paths (banded/sparse HB, ARPACK Hill, DOP853 monodromy) go speed by speed.
     stability: True (= "auto"), False, or a stability method name; ``method=``: its
-    deprecated name. ``solve(omega)`` gives the same :class:`PointResult` as
-    ``solve_point(model.at(omega), harmonics, stability, form=form)``.
+    deprecated name. With stability "reduced" (form "direct") the HB is the reduced one too
+    (:mod:`periodyn.harmonic.reduced_balance`: the mean modes of the stability method, the
+    residual of the full HB equations below its RTOL; a speed where it does not converge is
+    solved in full), ``reduced_balance`` True. ``solve(omega)`` gives the same
+    :class:`PointResult` as ``solve_point(model.at(omega), harmonics, stability, form=form)``.
     """
 
     def __init__(self, model: OmegaSplitModel, harmonics: int, stability: bool | str = True,
@@ -171,6 +179,8 @@ class SpeedSolver:
         self.storage, self.batch_balance = self.balance.storage, self.balance.kind
         self.speed_stability = SpeedStability(model, op, self.method)
         self.dense_hill = self.stability and self.speed_stability.dense_hill
+        self.reduced_balance = self.stability and self.method == "reduced" and form == "direct"
+        self._reduced: ReducedBalance | None = None
 
     @property
     def ladder(self):
@@ -205,6 +215,10 @@ class SpeedSolver:
         w = check_speeds(omegas)
         pat = self.pattern
         hb = _HB_SETUP + min(pat.size**3 / 3.0, 2.0 * pat.size * pat.half_bandwidth**2) / _HB_RATE
+        if self.reduced_balance:  # about five residuals (P = band + 2m + 1 angles, 6 n^2 each) and the kept LU
+            kept = (2 * self.m + 1) * min(START_MODES, self.model.n)
+            residuals = 5 * 2 * (pat.band + 2 * self.m + 1) * 6 * self.model.n**2
+            hb = min(hb, _HB_SETUP + (residuals + kept**3 / 3.0) / _HB_RATE)
         return self.speed_stability.costs(w, hb) if self.stability else np.full(w.size, hb)
 
     def solve(self, omega: float) -> PointResult:
@@ -222,6 +236,8 @@ class SpeedSolver:
         N = self.pattern.size
         per_speed = max(4 * N * N if self.dense_hill else 0, N * N if self.batch_balance == "dense" else 0,
                         3 * N * self.pattern.half_bandwidth + N)
+        if self.reduced_balance:  # its samples; dense Hill (a speed "reduced" hands on) takes sub-chunks
+            per_speed = 16 * (self.pattern.band + 2 * self.m + 1) * self.model.n
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
         if len(parts) == 1:
@@ -230,13 +246,37 @@ class SpeedSolver:
                           *(np.concatenate([getattr(b, f) for b in parts]) for f in SpeedBatch.__dataclass_fields__
                             if f not in ("omega", "output_names")))
 
-    def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Harmonics (S, 2m+1, n), relative HB residuals (S,) and failure messages (S,)
-        at speeds w (S,) by the path ``batch_balance`` (:mod:`periodyn.harmonic.batch_balance`)."""
-        return self.balance.solve_many(w, self.batch_balance)
+    def _balance(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Harmonics (S, 2m+1, n), relative HB residuals (S,), failure messages (S,) and the
+        modes kept by the reduced HB (S,; 0 where solved in full) at speeds w (S,): the
+        reduced HB where ``reduced_balance`` and the guarded mode count (START_MODES and the
+        parametric reach at the chunk's highest speed) leaves modes out, else (and where it
+        does not converge) the path ``batch_balance`` (:mod:`periodyn.harmonic.batch_balance`)."""
+        modes = np.zeros(w.size, np.int32)
+        k = self.model.n
+        if self.reduced_balance:
+            if self._reduced is None:
+                mean = self.speed_stability.prepared("reduced").modes
+                self._reduced = ReducedBalance(self.model, self.m, self.pattern.band, mean)
+            k = guarded_modes(self._reduced.modes, min(START_MODES, self.model.n), self.m, float(w.max()))
+        if k >= self.model.n:
+            return (*self.balance.solve_many(w, self.batch_balance), modes)
+        q, residual, steps = self._reduced.solve_many(w, k)
+        message = np.full(w.size, "", dtype=object)
+        ok = (steps > 0) & np.isfinite(q).reshape(w.size, -1).all(axis=1)
+        amplified = amplification(self._reduced.row_scales(w), q.reshape(w.size, -1),
+                                  self._reduced.forcing(w).reshape(w.size, -1))
+        for i in np.flatnonzero(ok):
+            message[i] = balance_failure(w[i], residual[i], amplified[i], f"reduced, {k} modes")
+        modes[ok] = k
+        full = np.flatnonzero(~ok)
+        if full.size:
+            q[full], residual[full], message[full] = self.balance.solve_many(w[full], self.batch_balance)
+        q[message != ""] = 0.0
+        return q, residual, message, modes
 
     def _solve_chunk(self, w: np.ndarray) -> SpeedBatch:
-        q, residual, balance_message = self._balance(w)
+        q, residual, balance_message, balance_modes = self._balance(w)
         spectrum = output_spectrum(self.output_spectra, q)  # (S, 2M+1, n_out)
         S, H, n_out = spectrum.shape
         half, mean = half_range_and_mean(np.moveaxis(spectrum, 0, 1).reshape(H, S * n_out))
@@ -253,6 +293,7 @@ class SpeedSolver:
             max_real, stable, message = np.full(S, np.nan), np.zeros(S, dtype=bool), np.full(S, "", dtype=object)
             methods = message
             records = {name: np.full(S, fill) for name, fill in STABILITY_RECORDS.items()}
+        records["balance_modes"] = balance_modes
         failed = balance_message != ""  # no periodic solution: the point fails with the HB's reason
         recorded = (np.where(failed, fill, records[name]) for name, fill in STABILITY_RECORDS.items())
         message = np.where(failed, balance_message, message)

@@ -84,7 +84,7 @@ class BalanceBatch:
         self.signs = signs
         largest = max(rows.size for rows in symmetry_classes(op.m, op.n, signs))
         small = not pat.narrow and largest <= DENSE_BALANCE_MAX
-        large = self.storage.kind == "dense" and 8.0 * len(op.W) * pat.size**2 <= DENSE_TERMS_BYTES
+        large = self.storage.kind == "dense" and 8.0 * op.powers * pat.size**2 <= DENSE_TERMS_BYTES
         self.kind = ("banded" if pat.narrow and pat.size * pat.half_bandwidth**2 <= JIT_BANDED_MAX else
                      "dense" if small or large else None)
         self.references: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # LU of each large class at a past speed

@@ -207,18 +207,56 @@ def _horner(terms: np.ndarray, w: float) -> np.ndarray:
 class HarmonicOperator(_OnPattern):
     """Hill/HB blocks of a system with coefficients polynomial in omega, on ``pattern``.
 
-    W: (PW, nb, n, n), V: (PV, nb, n, n) complex, the coefficients of w^p of the blocks
-    (module docstring); Mh: (nb, n, n); rhs: (Pf, (2m+1)n) force harmonics per power;
-    identity_mass: Mh is the identity. Derived terms (band storage, real dense HB,
-    real first-order Hill) are built on first use and kept.
+    spectra: the coefficient spectra (mass (2K+1, n, n), damping and stiffness (2K+1, n, n, P)
+    with the powers of omega last) the blocks are made of; rhs: (Pf, (2m+1)n) force
+    harmonics per power; identity_mass: Mh is the identity. The blocks W: (PW, nb, n, n),
+    V: (PV, nb, n, n) complex, the coefficients of w^p (module docstring), and Mh: (nb, n, n),
+    and the terms derived from them (band storage, real dense HB, real first-order Hill)
+    are built on first use and kept (a large model whose HB and stability are reduced never
+    builds them: O(m^2 n^2) memory).
     """
 
     pattern: BlockPattern
-    W: np.ndarray
-    V: np.ndarray
-    Mh: np.ndarray
+    spectra: tuple[np.ndarray, np.ndarray, np.ndarray]
     rhs: np.ndarray
     identity_mass: bool
+
+    @property
+    def powers(self) -> int:
+        """PW, the number of omega powers of W (without building it)."""
+        return max(self.spectra[2].shape[-1] - 1, self.spectra[1].shape[-1], 2) + 1
+
+    @cached_property
+    def _blocks(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        mass, damping, stiffness = self.spectra
+        pat = self.pattern
+        K = (mass.shape[0] - 1) // 2
+        d = pat.k_index - pat.l_index + K  # |k - l| <= band <= K: every offset is stored
+        l = pat.l_index[:, None, None].astype(float)
+        Md, Cd, Kd = mass[d], damping[d], stiffness[d]
+        Pc, Pk = damping.shape[-1], stiffness.shape[-1]
+        W = np.zeros((self.powers,) + Md.shape, dtype=complex)
+        V = np.zeros((max(Pc - 1, 1) + 1,) + Md.shape, dtype=complex)
+        for p in range(Pk):
+            W[p] += Kd[..., p]
+        for p in range(Pc):
+            W[p + 1] += 1j * l * Cd[..., p]
+            V[p] += Cd[..., p]
+        W[2] -= l**2 * Md
+        V[1] += 2j * l * Md
+        return W, V, Md.astype(complex, copy=False)
+
+    @property
+    def W(self) -> np.ndarray:
+        return self._blocks[0]
+
+    @property
+    def V(self) -> np.ndarray:
+        return self._blocks[1]
+
+    @property
+    def Mh(self) -> np.ndarray:
+        return self._blocks[2]
 
     @classmethod
     def from_power_spectra(cls, mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, force: np.ndarray,
@@ -233,22 +271,9 @@ class HarmonicOperator(_OnPattern):
                                     *(stiffness[..., p] for p in range(stiffness.shape[-1])))
         pat = block_pattern(m, n, band)
         K = (mass.shape[0] - 1) // 2
-        d = pat.k_index - pat.l_index + K  # |k - l| <= band <= K: every offset is stored
-        l = pat.l_index[:, None, None].astype(float)
-        Md, Cd, Kd = mass[d], damping[d], stiffness[d]
-        Pc, Pk = damping.shape[-1], stiffness.shape[-1]
-        W = np.zeros((max(Pk - 1, Pc, 2) + 1,) + Md.shape, dtype=complex)
-        V = np.zeros((max(Pc - 1, 1) + 1,) + Md.shape, dtype=complex)
-        for p in range(Pk):
-            W[p] += Kd[..., p]
-        for p in range(Pc):
-            W[p + 1] += 1j * l * Cd[..., p]
-            V[p] += Cd[..., p]
-        W[2] -= l**2 * Md
-        V[1] += 2j * l * Md
         rhs = np.stack([_take(force[..., p], np.arange(-m, m + 1)).reshape(-1) for p in range(force.shape[-1])])
         identity = bool(np.count_nonzero(mass) == n and np.array_equal(mass[K], np.eye(n)))
-        return cls(pat, W, V, Md, rhs, identity)
+        return cls(pat, (mass, damping, stiffness), rhs, identity)
 
     @classmethod
     def for_system(cls, system: RheoLinear, harmonics: int, form: str = "direct") -> HarmonicOperator:

@@ -11,8 +11,8 @@ makes it real (LAPACK's real solvers are about three times faster than complex o
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -24,23 +24,57 @@ __all__ = ["BlockPattern", "block_pattern", "real_form", "to_real_basis", "from_
 class BlockPattern:
     """Sparsity of a (2m+1)n block matrix with blocks (k, l) for |k - l| <= band.
 
-    k_index, l_index: (nb,) harmonic indices of block rows/columns; csc_perm maps the
+    k_index, l_index: (nb,) harmonic indices of block rows/columns; half_bandwidth
+    u = (band + 1) n - 1. Built on first use (O(nb n^2) entries): csc_perm maps the
     flattened (nb, n, n) block data to CSC data order; indices/indptr are the CSC arrays;
-    half_bandwidth u = (band + 1) n - 1 and band_rows/band_cols place the flattened block
-    data in LAPACK band storage ab[u + i - j, j].
+    band_rows/band_cols place the flattened block data in LAPACK band storage
+    ab[u + i - j, j].
     """
 
     m: int
     n: int
     band: int
-    k_index: np.ndarray
-    l_index: np.ndarray
-    csc_perm: np.ndarray
-    indices: np.ndarray
-    indptr: np.ndarray
+    k_index: np.ndarray = field(compare=False)
+    l_index: np.ndarray = field(compare=False)
     half_bandwidth: int
-    band_rows: np.ndarray
-    band_cols: np.ndarray
+
+    @cached_property
+    def _entries(self) -> tuple[np.ndarray, np.ndarray]:
+        """Row and column (each (nb n^2,)) of every entry of the flattened block data."""
+        m, n = self.m, self.n
+        i_loc, j_loc = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+        rows = ((self.k_index + m)[:, None, None] * n + i_loc[None]).reshape(-1)
+        cols = ((self.l_index + m)[:, None, None] * n + j_loc[None]).reshape(-1)
+        return rows, cols
+
+    @cached_property
+    def _csc(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        rows, cols = self._entries
+        order = np.lexsort((rows, cols))
+        indptr = np.zeros(self.size + 1, dtype=np.int64)
+        np.add.at(indptr, cols + 1, 1)
+        return order, rows[order].astype(np.int32), np.cumsum(indptr).astype(np.int32)
+
+    @property
+    def csc_perm(self) -> np.ndarray:
+        return self._csc[0]
+
+    @property
+    def indices(self) -> np.ndarray:
+        return self._csc[1]
+
+    @property
+    def indptr(self) -> np.ndarray:
+        return self._csc[2]
+
+    @cached_property
+    def band_rows(self) -> np.ndarray:
+        rows, cols = self._entries
+        return self.half_bandwidth + rows - cols
+
+    @property
+    def band_cols(self) -> np.ndarray:
+        return self._entries[1]
 
     @property
     def size(self) -> int:
@@ -87,18 +121,7 @@ def block_pattern(m: int, n: int, band: int) -> BlockPattern:
     """The cached block pattern of (2m+1)n systems with coefficient band ``band``."""
     ks, ls = np.meshgrid(np.arange(-m, m + 1), np.arange(-m, m + 1), indexing="ij")
     keep = np.abs(ks - ls) <= band
-    k_index, l_index = ks[keep], ls[keep]
-    i_loc, j_loc = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    rows = ((k_index + m)[:, None, None] * n + i_loc[None]).reshape(-1)
-    cols = ((l_index + m)[:, None, None] * n + j_loc[None]).reshape(-1)
-    order = np.lexsort((rows, cols))
-    size = (2 * m + 1) * n
-    indptr = np.zeros(size + 1, dtype=np.int64)
-    np.add.at(indptr, cols + 1, 1)
-    indptr = np.cumsum(indptr)
-    u = (band + 1) * n - 1
-    return BlockPattern(m, n, band, k_index, l_index, order, rows[order].astype(np.int32),
-                        indptr.astype(np.int32), u, u + rows - cols, cols)
+    return BlockPattern(m, n, band, ks[keep], ls[keep], (band + 1) * n - 1)
 
 
 def real_form(A: np.ndarray, m: int, n: int, halves: int = 2) -> np.ndarray:

@@ -25,6 +25,7 @@ from .methods import StabilityMethod, hill_costs_many, method_named
 
 __all__ = ["SpeedStability"]
 
+DENSE_HILL_ELEMENTS = 4_000_000  # matrix entries of the real first-order Hill matrices stacked in one call
 _EXP_MAX = np.log(np.finfo(float).max)  # largest Re(lambda) T whose multiplier exp(lambda T) is finite
 
 
@@ -46,7 +47,7 @@ class SpeedStability:
         used = [method_named(name) for name in (self.method.name, *self.method.delegates)]
         self._prepared = {}
         self.dense_hill = (any(entry.name == "dense" for entry in used)
-                           and 8.0 * len(harmonic.W) * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
+                           and 8.0 * harmonic.powers * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
 
     def prepared(self, name: str):
         """What method ``name``'s ``prepare`` builds for the model (once, on first use)."""
@@ -138,12 +139,16 @@ class SpeedStability:
         return exps, message, edge
 
     def dense_batch(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Dense Hill at speeds w: one stacked LAPACK call where the terms fit (``dense_hill``);
-        exponents (S, 2n), messages (S,) and truncation indicators (S,)."""
+        """Dense Hill at speeds w: stacked LAPACK calls of at most DENSE_HILL_ELEMENTS entries
+        where the terms fit (``dense_hill``); exponents (S, 2n), messages (S,) and truncation
+        indicators (S,)."""
         if not self.dense_hill:
             return self.one_by_one(method_named("dense"), w)
         m, n = self.m, self.n
-        exps, edges, found = dense_exponents_batch(self.harmonic.real_first_order_many(w), w, m, n)
+        chunk = max(1, DENSE_HILL_ELEMENTS // (2 * self.harmonic.pattern.size) ** 2)
+        parts = [dense_exponents_batch(self.harmonic.real_first_order_many(w[i: i + chunk]), w[i: i + chunk], m, n)
+                 for i in range(0, w.size, chunk)]
+        exps, edges, found = (np.concatenate(x) for x in zip(*parts))
         message = np.full(w.size, "", dtype=object)
         for i in np.nonzero(found < 2 * n)[0]:
             exps[i] = np.nan

@@ -13,12 +13,13 @@ lambda by the first Schur-complement term
     d_lambda = sum_a s_h[a] D_a^-1 r_h[a] / (y^H Q'_ll(lambda) x),   r_h = Q_hl x,  s_h = y^H Q_lh,
     D_a = s_a^2 Mbar_hh + s_a Cbar_hh + Kbar_hh        (the mean truncated block),
 
-and the corrected growth per period is Re(lambda + d_lambda) T with the error bound
-ladder error + 2 |d_lambda| T. A speed is certified when the bound is at most
-STABILITY_TOL max(1, |G|) and below the distance of G from the verdict's threshold;
-otherwise (also near a double exponent, y^H Q' x -> 0, where no centred null vector
-exists, or where a truncated mode's diagonal estimate comes near the top) the mode count
-doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
+(r_h and s_h by products on 2K + 2m + 1 angles, linear in n - k; D_a^-1 by Jacobi sweeps
+on its diagonal, O(m (n-k)^2)), and the corrected growth per period is
+Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is
+certified when the bound is at most STABILITY_TOL max(1, |G|) and below the distance of
+G from the verdict's threshold; otherwise (also near a double exponent, y^H Q' x -> 0,
+where no centred null vector exists, or where a truncated mode's diagonal estimate comes
+near the top) the mode count doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
 model. Exponents of the truncated modes are their mean diagonal estimates (roots of
 s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
 """
@@ -29,6 +30,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..model.reduce import guarded_modes, mean_modes
+from ..numerics.spectra import fourier_coefficients
 from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
@@ -38,11 +40,15 @@ __all__ = ["ReducedStability", "system_model", "reduced_choices", "LADDER_TOL", 
 
 LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor: ERROR_FLOOR)
 # modes of the first try, before the parametric-reach guard: with 4 the bound (3e-6 to 4e-5
-# on the 4-64-element slider-cranks over 150-300 rad/s) was above the tolerance at every speed
-START_MODES = 8
+# on the 4-64-element slider-cranks over 150-300 rad/s) was above the tolerance at every speed;
+# with 8 (bound 1e-7 to 2e-6) at 5 or 6 of 24 speeds, which then climbed the 16-mode ladder at
+# about 3 times its cost; 12 (bound 2e-8 to 7e-7 on 8, 32 and 64 elements) certifies them all
+START_MODES = 12
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
 DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
+JACOBI_STEPS = 20  # Jacobi sweeps on the mean truncated blocks D_a before their dense solve
+JACOBI_RTOL = 1e-12  # relative residual of D_a z_a = r_a at which the sweeps stop
 
 
 class _Ladder(MagnusLadder):
@@ -58,24 +64,6 @@ class _Ladder(MagnusLadder):
         return c
 
 
-def _pairs(K: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Index arrays (a, b, a - b + K) of the harmonic pairs a, b = -m..m with |a - b| <= K."""
-    a, b = np.meshgrid(np.arange(2 * m + 1), np.arange(2 * m + 1), indexing="ij")
-    keep = np.abs(a - b) <= K
-    return a[keep], b[keep], (a - b)[keep] + K
-
-
-def _apply(spectra, weights: np.ndarray, x: np.ndarray, m: int) -> np.ndarray:
-    """r_a = sum_b sum_q weights[q, b] X^q_(a-b) x_b for spectra X^q (2K+1, r, c), weights
-    (Q, 2m+1), x (2m+1, c): (2m+1, r), without forming the (2m+1)^2 blocks."""
-    a, b, d = _pairs((spectra[0].shape[0] - 1) // 2, m)
-    out = np.zeros((2 * m + 1, spectra[0].shape[1]), dtype=complex)
-    for X, wq in zip(spectra, weights):
-        P = X @ (wq[:, None] * x).T  # (2K+1, r, 2m+1)
-        np.add.at(out, a, P[d, :, b])
-    return out
-
-
 def _offsets(X: np.ndarray, m: int) -> np.ndarray:
     """Coefficients X_(a-b) for a, b = -m..m from a spectrum (2K+1, ...), (2m+1, 2m+1, ...)."""
     K = (X.shape[0] - 1) // 2
@@ -84,6 +72,24 @@ def _offsets(X: np.ndarray, m: int) -> np.ndarray:
     inside = np.abs(d) <= K
     out[inside] = X[d[inside] + K]
     return out
+
+
+def _truncated_solve(Mh: np.ndarray, Ch: np.ndarray, Kh: np.ndarray, s: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """z (2m+1, h) with D_a z_a = r_a, D_a = s_a^2 Mh + s_a Ch + Kh (mean truncated block
+    (h, h) each, s (2m+1,), r (2m+1, h)): Jacobi sweeps on the diagonal (in mean-modal
+    coordinates the blocks are diagonal up to the speed-dependent and non-proportional
+    terms, small against the stiff truncated modes), O(m h^2) each, to JACOBI_RTOL; where
+    they do not converge within JACOBI_STEPS, the dense solves (O(m h^3))."""
+    d = (s * s)[:, None] * np.diag(Mh) + s[:, None] * np.diag(Ch) + np.diag(Kh)
+    z = r / d
+    scale = np.linalg.norm(r)
+    for _ in range(JACOBI_STEPS):
+        res = r - ((s * s)[:, None] * (z @ Mh.T) + s[:, None] * (z @ Ch.T) + z @ Kh.T)
+        if np.linalg.norm(res) <= JACOBI_RTOL * scale:
+            return z
+        z = z + res / d
+    D = s[:, None, None] ** 2 * Mh[None] + s[:, None, None] * Ch[None] + Kh[None]
+    return np.linalg.solve(D, r[..., None])[..., 0]
 
 
 def _null_vectors(Q: np.ndarray, iterations: int = 3) -> tuple[np.ndarray, np.ndarray]:
@@ -108,11 +114,47 @@ class ReducedStability:
         self.model, self.n = model, model.n
         self.modes = mean_modes(model, reference_speed)
         Phi = self.modes.shapes
-        Ms, Cs, Ks = model._power_spectra[:3]
-        self.M = np.einsum("ni,knm,mj->kij", Phi, Ms, Phi, optimize=True)
-        self.C = np.einsum("ni,knmp,mj->kijp", Phi, Cs, Phi, optimize=True)
-        self.K = np.einsum("ni,knmp,mj->kijp", Phi, Ks, Phi, optimize=True)
+
+        def spectra(X):  # of the projected real samples X (..., p, n, n): (2K+1, n, n[, P])
+            return fourier_coefficients(np.moveaxis(Phi.T @ X @ Phi, 0, -1) if X.ndim == 4 else Phi.T @ X @ Phi)
+
+        self.M, self.C, self.K = spectra(model.mass), spectra(model.damping), spectra(model.stiffness)
         self._ladders: dict[int, _Ladder] = {}
+        self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
+
+    def couplings(self, k: int, m: int) -> tuple[np.ndarray, ...]:
+        """The coupling blocks of k kept modes at P = 2K + 2m + 1 angles, with m harmonics
+        (built once per (k, m)): synthesis E (P, 2m+1) of sum_a x_a e^(i a theta), the
+        blocks hl (P, n-k, k, 1 + Pc + Pk) and lh (P, k, n-k, 1 + Pc + Pk) of M, C_p, K_p
+        (real). No product of a coefficient harmonic |d| <= K with a harmonic |b| <= m
+        aliases onto a harmonic |a| <= m on these angles, so the products below are the
+        harmonic convolutions exactly, at O(P (n-k) k) per speed instead of O(m K (n-k) k)."""
+        if (k, m) not in self._couplings:
+            K = (self.M.shape[0] - 1) // 2
+            P = 2 * K + 2 * m + 1
+            theta = 2 * np.pi * np.arange(P) / P
+            F = np.exp(1j * np.outer(theta, np.arange(-K, K + 1)))
+            E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
+            stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)  # (2K+1, n, n, 1 + Pc + Pk)
+            l, h = slice(0, k), slice(k, self.n)
+            hl, lh = (np.ascontiguousarray(np.tensordot(F, stack[:, r, c], 1).real) for r, c in ((h, l), (l, h)))
+            self._couplings[k, m] = (E, hl, lh)
+        return self._couplings[k, m]
+
+    def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray):
+        """r_h = Q_hl(lambda) x (2m+1, n-k) and s_h = y^H Q_lh(lambda) (2m+1, n-k) for
+        Hill vectors x, y (2m+1, k) with s_b = lambda + i b w (2m+1,)."""
+        E, hl, lh = self.couplings(k, m)
+        Pc, P = self.C.shape[-1], E.shape[0]
+        powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
+        weights = np.concatenate([[s * s], np.repeat(s[None], Pc, 0), np.ones((len(powers) - 1 - Pc, s.size))])
+        weights = weights * powers[:, None]  # (1 + Pc + Pk, 2m+1): s_b^2 for M, s_b w^p for C_p, w^p for K_p
+        xs = np.einsum("ja,qa,ac->jcq", E, weights, x, optimize=True)  # (P, k, Q)
+        r = np.conj(E.T) @ np.einsum("jrcq,jcq->jr", hl, xs, optimize=True) / P
+        ys = np.conj(E) @ np.conj(y)  # sum_a conj(y_a) e^(-i a theta_j), (P, k)
+        t = np.einsum("jc,jcrq->jrq", ys, lh, optimize=True)  # (P, n-k, Q)
+        sh = np.einsum("ja,jrq,qa->ar", E, t, weights, optimize=True) / P
+        return r, sh
 
     def ladder(self, k: int) -> _Ladder:
         """The ladder of the k-mode model (spectra of the projected samples)."""
@@ -174,15 +216,8 @@ class ReducedStability:
         denom = np.einsum("ai,abij,bj->", y.conj(), dQ, x)
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
-        weights = np.stack([s * s, s, np.ones_like(s)])
-        r = _apply(self._at(w, h, l), weights, x, m)
-        # s_h[b] = sum_a y_a^H Q_lh[a, b]: the transposed convolution, harmonics reversed
-        ones = np.ones((1, 2 * m + 1))
-        sh = sum(wq[:, None] * _apply([np.conj(X[::-1].transpose(0, 2, 1))], ones, y, m).conj()
-                 for X, wq in zip(self._at(w, l, h), weights))
-        Mh, Ch, Kh = self._at(w, h, h, mean=True)
-        D = s[:, None, None] ** 2 * Mh[None] + s[:, None, None] * Ch[None] + Kh[None]
-        z = np.linalg.solve(D, r[..., None])[..., 0]
+        r, sh = self._coupled(w, k, m, s, x, y)  # s_h[b] = sum_a y_a^H Q_lh[a, b]
+        z = _truncated_solve(*self._at(w, h, h, mean=True), s, r)
         return lam, complex(np.einsum("ai,ai->", sh, z) / denom), ""
 
     def certify(self, w: float, m: int, k: int, exps: np.ndarray, error: float):
