@@ -387,8 +387,8 @@ def _vectorized_fields(mass, force, constraint, *, n: int, force_jacobian, param
 
     def fjac_b(q, qd, t, w, P):
         if force_jacobian is not None:
-            return tuple(np.broadcast_to(np.asarray(K, dtype=float), (q.shape[0], n, n))
-                         for K in force_jacobian(q, qd, t, w, *extra(P)))
+            return tuple(K if K.shape == (q.shape[0], n, n) else np.broadcast_to(K, (q.shape[0], n, n))
+                         for K in (np.asarray(K, dtype=float) for K in force_jacobian(q, qd, t, w, *extra(P))))
         p = q.shape[0]  # row j of the stack: direction j (q for j < n, qd after) at every sample
         z = np.empty((2 * n, p, 2 * n), dtype=complex)
         z[:] = np.concatenate([q, qd], axis=1)
