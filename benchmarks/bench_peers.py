@@ -24,7 +24,7 @@ for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA
 import argparse  # noqa: E402
 import json  # noqa: E402
 import subprocess  # noqa: E402
-import sys  # noqa: E402
+import tempfile  # noqa: E402
 import time  # noqa: E402
 import warnings  # noqa: E402
 
@@ -123,6 +123,7 @@ def pyharm_curve(n: int, H: int, rounds: int) -> dict:
 
     import pyHarm
     logging.disable(logging.CRITICAL)
+    os.chdir(tempfile.mkdtemp(prefix="pyharm-"))  # it writes a context folder into the working directory
 
     def run():
         maestro = pyHarm.Maestro(pyharm_input(n, H))
