@@ -121,9 +121,9 @@ def pyharm_curve(n: int, H: int, rounds: int) -> dict:
     """{points, wall, cpu, folds} of pyHarm's curve (this process must import pyHarm)."""
     import logging
 
+    os.chdir(tempfile.mkdtemp(prefix="pyharm-"))  # its import writes a context folder into the working directory
     import pyHarm
     logging.disable(logging.CRITICAL)
-    os.chdir(tempfile.mkdtemp(prefix="pyharm-"))  # it writes a context folder into the working directory
 
     def run():
         maestro = pyHarm.Maestro(pyharm_input(n, H))
