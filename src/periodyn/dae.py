@@ -132,9 +132,8 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
               constraint_jacobian=None, constraint_hessian=None, constraint_rates=None,
               mass_jacobian=None, parameters: Mapping[str, float] | None = None, q0=None,
               coordinate_names: Sequence[str] | None = None, constraint_names: Sequence[str] | None = None,
-              name: str = "dae", phase_forcing: bool = False) -> dict:
+              name: str = "dae", phase_forcing: bool = False, vectorized: bool = False) -> dict:
     """Fields of ``periodyn.DAE(mass, force, constraint=None, ...)`` from per-point callables.
-
     mass: (n,n) array or callable ``mass(q)`` -> (n,n) (no parameters).
     force: ``force(q, qd, t, omega[, params])`` -> (n,).
     constraint: ``constraint(q, t, omega[, params])`` -> (m,), or None for an ODE.
@@ -156,6 +155,8 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
     phase_forcing: True declares that the force depends on omega and t only through the
       phase omega t (e.g. ``F cos(omega t)``); the omega sensitivity of a shooting flow then
       needs no extra force evaluation (checked when used).
+    vectorized: True declares that ``force`` (and ``force_jacobian``) take all samples at once,
+      q, qd (p, n), t (p,) -> (p, n) (Jacobians (p, n, n) each): one call per evaluation.
     """
     params0 = dict(parameters) if parameters is not None else None
     extra = (lambda P: (P,)) if params0 is not None else (lambda P: ())
@@ -178,6 +179,13 @@ def _user_fields(mass, force, constraint=None, *, n: int | None = None, force_ja
         _finite_real("mass(q0)", mass(q0a), lambda a: a.reshape(n, n) if a.size == n * n else a)
     if not callable(force):
         raise InputError("force must be a callable force(q, qd, t, omega) returning an (n,) array")
+
+    if vectorized:
+        return _vectorized_fields(mass, force, constraint, n=n, force_jacobian=force_jacobian, parameters=params0,
+                                  q0=q0a, coordinate_names=coordinate_names, constraint_names=constraint_names,
+                                  name=name, phase_forcing=phase_forcing, constraint_jacobian=constraint_jacobian,
+                                  constraint_hessian=constraint_hessian, constraint_rates=constraint_rates,
+                                  mass_jacobian=mass_jacobian)
 
     def call_force(q, qd, t, w, P):
         return np.asarray(force(q, qd, t, w, *extra(P))).reshape(n)
@@ -350,3 +358,43 @@ def rheo_linear_dae(system, *, name: str = "rheo_linear"):
     dae = ode(system.n, force, force_jacobians, system.coordinate_names, name)
     dae.rheo_linear = system  # for shooting(..., method="implicit")
     return dae
+
+
+def _vectorized_fields(mass, force, constraint, *, n: int, force_jacobian, parameters, **rest) -> dict:
+    """Fields of ``DAE(..., vectorized=True)``: mass, constraints as :func:`_user_fields`; force and
+    Jacobians by one call over all samples (default: complex step, all 2n directions in one call)."""
+    extra = (lambda P: (P,)) if parameters is not None else (lambda P: ())
+
+    def one(q, qd, t, w, *P):
+        return np.asarray(force(np.atleast_2d(q), np.atleast_2d(qd), np.atleast_1d(t), w, *P))[0]
+
+    def jac_one(q, qd, t, w, *P):
+        return tuple(a[0] for a in force_jacobian(np.atleast_2d(q), np.atleast_2d(qd), np.atleast_1d(t), w, *P))
+    q0, z2 = rest["q0"], np.zeros((2, n))
+    try:
+        two = force(np.stack([q0, q0]), z2, np.array([0.0, 0.731]), 1.0, *extra(parameters))
+        ok = np.shape(two) == (2, n) and np.allclose(two, [one(q0, z2[0], t, 1.0, *extra(parameters))
+                                                          for t in (0.0, 0.731)], rtol=1e-12, atol=1e-14)
+    except (IndexError, ValueError, TypeError):
+        ok, two = False, None
+    if not ok:
+        raise InputError(f"force was declared vectorized but does not map q, qd (p, n), t (p,) to (p, n) per sample "
+                         f"(2 samples gave {np.shape(two)}): use q[:, 0] for coordinate 0, or leave vectorized out")
+    fields = _user_fields(mass, one, constraint, n=n, force_jacobian=force_jacobian and jac_one,
+                          parameters=parameters, **rest)
+    def force_b(q, qd, t, w, P):
+        return np.asarray(force(q, qd, t, w, *extra(P)), dtype=float).reshape(q.shape[0], n)
+
+    def fjac_b(q, qd, t, w, P):
+        if force_jacobian is not None:
+            return tuple(K if K.shape == (q.shape[0], n, n) else np.broadcast_to(K, (q.shape[0], n, n))
+                         for K in (np.asarray(K, dtype=float) for K in force_jacobian(q, qd, t, w, *extra(P))))
+        p = q.shape[0]  # row j of the stack: direction j (q for j < n, qd after) at every sample
+        z = np.empty((2 * n, p, 2 * n), dtype=complex)
+        z[:] = np.concatenate([q, qd], axis=1)
+        z[np.arange(2 * n), :, np.arange(2 * n)] += 1j * _CSTEP
+        z = z.reshape(2 * n * p, 2 * n)
+        d = np.transpose(np.asarray(force(z[:, :n], z[:, n:], np.tile(t, 2 * n), w, *extra(P))).reshape(
+            2 * n, p, n).imag / _CSTEP, (1, 2, 0))
+        return d[:, :, :n], d[:, :, n:]
+    return dict(fields, force=force_b, force_jacobians=fjac_b)

@@ -78,3 +78,33 @@ def test_complex_step_defaults_equal_analytic_derivatives():
     _, gamma = s.constraint_rates(q, qd, np.zeros(1), 1.0, s.parameters)
     np.testing.assert_allclose(gamma[0], [-(2 * 0.09 - np.sin(0.7) * 0.04)], atol=1e-14)
     assert s.with_parameters(k=3.0).parameters["k"] == 3.0 and s.parameters["k"] == 2.0
+
+
+def test_vectorized_force_equals_the_per_point_one_and_its_jacobians():
+    """A force declared vectorized (one call over all samples) gives the per-point force's
+    values and, by the stacked complex step or the given batch Jacobian, its derivatives."""
+    def point(q, qd, t, w, P):
+        return np.array([-P["k"] * np.sin(q[0]) * q[1] - qd[0] * qd[1], -q[1] ** 3 + np.cos(w * t)])
+
+    def batch(q, qd, t, w, P):
+        return np.stack([-P["k"] * np.sin(q[:, 0]) * q[:, 1] - qd[:, 0] * qd[:, 1], -q[:, 1] ** 3 + np.cos(w * t)], 1)
+
+    def batch_jac(q, qd, t, w, P):
+        z = np.zeros(len(t))
+        Kq = np.stack([np.stack([-P["k"] * np.cos(q[:, 0]) * q[:, 1], -P["k"] * np.sin(q[:, 0])], -1),
+                       np.stack([z, -3 * q[:, 1] ** 2], -1)], 1)
+        Kv = np.stack([np.stack([-qd[:, 1], -qd[:, 0]], -1), np.stack([z, z], -1)], 1)
+        return Kq, Kv
+
+    rng = np.random.default_rng(4)
+    q, qd, t = rng.standard_normal((7, 2)), rng.standard_normal((7, 2)), rng.random(7)
+    ref = DAE(np.eye(2), point, parameters={"k": 2.0})
+    for s in (DAE(np.eye(2), batch, parameters={"k": 2.0}, vectorized=True),
+              DAE(np.eye(2), batch, force_jacobian=batch_jac, parameters={"k": 2.0}, vectorized=True)):
+        np.testing.assert_allclose(s.force(q, qd, t, 1.3, s.parameters), ref.force(q, qd, t, 1.3, ref.parameters),
+                                   rtol=0, atol=1e-14)
+        pairs = zip(s.force_jacobians(q, qd, t, 1.3, s.parameters), ref.force_jacobians(q, qd, t, 1.3, ref.parameters))
+        for a, b in pairs:
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-13)
+    with pytest.raises(InputError, match="vectorized"):
+        DAE(np.eye(2), point, parameters={"k": 2.0}, vectorized=True)

@@ -64,7 +64,9 @@ def test_given_harmonics_are_kept_but_flagged_with_their_spurious_points(rod, tm
                                                "harmonics or leave it out"):
         br = continuation(rod, (1.0, 8.0), harmonics=5)
     assert br.options["harmonics"] == 5 and np.max(br.defect) > DEFECT_TOL
-    assert len(br.special_points) == 6
+    # 7: the turn-based step control resolves a +1 crossing 0.004 rad/s from the spurious fold at
+    # 2.637 (both in one bracket, and so unseen, with the former steps, which found 6)
+    assert len(br.special_points) == 7
     # every point the shooting reference lacks is flagged; the fold it has is resolved
     assert [t for t, _ in _unflagged(br)] == ["fold"] and abs(_unflagged(br)[0][1] - FOLD) < 1e-4
     assert all(p.check.startswith("spurious") and "raise the harmonics" in p.check

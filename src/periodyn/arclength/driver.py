@@ -39,9 +39,9 @@ class ContinuationOptions:
     ds, ds_min, ds_max: initial, smallest and largest arc-length step (scaled norm, see
     ``palc``); max_points: branch points at most; tol: residual max-norm (default 1e-8 for
     IHB, 1e-9 for shooting); max_iter: corrector Newton updates; samples: IHB samples p
-    (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method
-    of ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` or None (IHB; shooting always has
-    its monodromy); shooting_samples: orbit samples of a shooting solution; confirm: True
+    (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method of
+    ``orbit_exponents`` or None (IHB; shooting has its monodromy; default "auto", the registry's
+    rule, with fixed-step Magnus at refined special points); shooting_samples: orbit samples of a shooting solution; confirm: True
     checks every special point (``confirm_special_points``, its defaults: truncation, then
     direct integration), "truncation" (the default) only against more harmonics
     (``check_truncation``: IHB branches), False not at all;
@@ -58,7 +58,7 @@ class ContinuationOptions:
     max_iter: int = 7
     samples: int | None = None
     subharmonic: int = 1
-    stability: str | None = "magnus"
+    stability: str | None = "auto"
     shooting_samples: int = 128
     confirm: bool | str = "truncation"
     shooting_method: str = "auto"
@@ -106,8 +106,9 @@ class _IHB(_Discretization):
     def exact_equations(self, X, om, P):
         return self.prob.residual_jacobian(X, om, P)
 
-    def exponents(self, X, om, P):
-        return None if self.stability is None else self.prob.exponents(X, om, P, self.stability)
+    def exponents(self, X, om, P, refine: bool = False):  # refine: "auto" (certified to 1e-6) -> Magnus
+        method = "magnus" if refine and self.stability == "auto" else self.stability  # (crossings to 1e-9)
+        return None if method is None else self.prob.exponents(X, om, P, method)
 
     def solution(self, X, om, P, rn, it, exps):
         return self.prob.solution(X, om, P, rn, it, exps)
@@ -132,7 +133,7 @@ class _Shooting(_Discretization):
     def parameter_derivative(self, X, om, P):
         return self.chord.parameter_derivative(X, om, P)
 
-    def exponents(self, X, om, P):
+    def exponents(self, X, om, P, refine: bool = False):
         return self.prob.exponents(X, om, P)
 
     def solution(self, X, om, P, rn, it, exps):
@@ -160,7 +161,7 @@ class _Implicit(_Discretization):
             self._last = (key, self.prob.solution(X, om, P, 0.0, 0, self.H))
         return self._last[1]
 
-    def exponents(self, X, om, P):  # of the extrapolated monodromy, as pointwise implicit shooting
+    def exponents(self, X, om, P, refine: bool = False):  # of the extrapolated monodromy, as pointwise shooting
         return self._solution(X, om, P).stability
 
     def solution(self, X, om, P, rn, it, exps):
@@ -227,12 +228,12 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
               p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
               reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
 
-    def record(pt):
-        exps = disc.exponents(pt.X, *at(pt.p))
+    def record(pt, refine=False):
+        exps = disc.exponents(pt.X, *at(pt.p), refine=refine)
         return disc.solution(pt.X, *at(pt.p), pt.residual, pt.iterations, exps)
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
-    sols = [record(pts[0])]
+    sols = [record(pts[0], refine=True)]  # precise: a switched branch starts on its special point
     specials, status, loose, unknowns = [], "", set(), {}
     bounds = (min(p0, p1), max(p0, p1)) if tangent is None else None  # a switched branch may turn back past its start
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points,
@@ -326,7 +327,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
             out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed, None))
             continue
         X, p, rn, tests = found
-        exps = disc.exponents(X, *at(p))
+        exps = disc.exponents(X, *at(p), refine=True)
         sol = disc.solution(X, *at(p), rn, 0, exps)
         if typ != "fold":
             mu = sol.multipliers
@@ -385,7 +386,7 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
                          label="special point", hint="")
         except ConvergenceError:
             return None
-        return test(disc.exponents(res.x, *at(p)).multipliers), (res.x, res.residual)
+        return test(disc.exponents(res.x, *at(p), refine=True).multipliers), (res.x, res.residual)
 
     if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
         return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
@@ -396,4 +397,4 @@ def _refine_crossing(arc, disc, at, a, b, test, bracket):
         return None
     s, (X, rn) = res
     p = a.p + s * (b.p - a.p)
-    return X, p, rn, (bracket[0], bracket[1], test(disc.exponents(X, *at(p)).multipliers))
+    return X, p, rn, (bracket[0], bracket[1], test(disc.exponents(X, *at(p), refine=True).multipliers))

@@ -11,7 +11,9 @@ raised to the largest RMS met on the branch since: a branch starting at a tiny a
 must not keep steps of that size through its resonance) and s_p = |p_0|.
 Steps: tangent predictor, Newton corrector (``periodyn.numerics.newton_iteration``) on the bordered
 system (R = 0 plus the hyperplane through the predictor normal to the tangent); ds grows
-x1.5 after an easy step (<= 3 iterations), shrinks x0.7 after a hard one (>= 6), halves
+x1.5 after an easy step (<= 3 iterations), shrinks x0.7 after a hard one (>= 6), and is
+scaled besides so that the tangent turns by about ``_TURN`` radians per step (x0.5 to x1.5:
+points gather where the branch bends, at folds, and not on straight stretches); it halves
 after a failed step down to ds_min, and a step that turns the tangent by more than ~25
 degrees (cos < 0.9) is retried shorter.
 
@@ -50,6 +52,7 @@ _CHORD_EASY = (6, 12)  # reuse mode: step control thresholds in chord updates (N
 _KRYLOV_TOL = 1e-10  # reuse mode: relative residual of the tangent's GMRES solve
 _KRYLOV_STEPS = 12  # reuse mode: GMRES steps before J is factorized for the tangent
 _KEEP = 4  # preconditioners kept at the latest accepted points (reuse mode)
+_TURN = 0.15  # radians the tangent turns per step under the step control (trace)
 
 
 @dataclass(frozen=True, eq=False)
@@ -257,7 +260,7 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
                    "other branch with switch_branch")
             return
         yield new
-        pt, count = new, count + 1
+        prev, pt, count = pt, new, count + 1
         if pt.p == p_stop:
             yield "parameter range covered"
             return
@@ -266,12 +269,20 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
                    f"{p_stop:.6g}): widen the range to follow it")
             return
         easy, hard = _CHORD_EASY if arc.reuse else (3, 6)
-        if new.iterations <= easy:
-            ds = min(ds * 1.5, ds_max)
-        elif new.iterations >= hard:
-            ds *= 0.7
+        grow = 1.5 if new.iterations <= easy else 0.7 if new.iterations >= hard else 1.0
+        ds = min(ds * min(grow, _turn_factor(arc, prev, pt) if count > 2 else grow), ds_max)
     yield (f"max_points reached: {max_points} points ended at parameter {pt.p:.6g} before the stop {p_stop:.6g}; "
            f"raise max_points, or ds_max (now {ds_max:g}) for longer steps")
+
+
+def _turn_factor(arc: Arc, a: ArcPoint, b: ArcPoint) -> float:
+    """Step factor from the turn of the tangent between accepted points a and b: the angle
+    (scaled norm) brought to ``_TURN`` radians per step, the factor within [0.5, 1.5]; a
+    fold, where the branch turns fastest, gets short steps, a straight stretch long ones. Not
+    used on the first step (the start's tangent may be given, as on a switched branch)."""
+    cos = arc.dot(a.t, b.t) / (arc.norm(a.t) * arc.norm(b.t))
+    angle = float(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return float(np.clip(_TURN / max(angle, 1e-12), 0.5, 1.5))
 
 
 def _inside(pt: ArcPoint, ds: float, N: int, lo: float, hi: float, positive: bool) -> float:

@@ -33,12 +33,14 @@ from .elements import as_dae
 from ..numerics.newton_iteration import newton
 from ..periodic import PeriodicSolution
 from ..numerics.spectra import min_samples, sample_angles
-from .ihb_fourier import complex_to_real, derivative_matrix, real_coefficients, real_samples, real_to_complex
+from .ihb_fourier import complex_to_real, derivative_matrix, real_to_complex
 from .ihb_jacobian import JacobianPattern, block_needs
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
+
+_DENSE_SIZE = 200  # unknowns up to which the Newton Jacobian is dense (IHBProblem)
 
 
 def default_samples(H: int) -> int:
@@ -54,12 +56,17 @@ def default_samples(H: int) -> int:
 
 
 class IHBProblem:
-    """Residual R(X) and sparse Jacobian of the harmonic-balance equations of one DAE.
+    """Residual R(X) and Jacobian of the harmonic-balance equations of one DAE.
 
-    harmonics H, samples p, subharmonic nu (orbit period nu 2 pi / omega).
+    harmonics H, samples p, subharmonic nu (orbit period nu 2 pi / omega); dense: the
+    Jacobian as a dense array (default for at most ``_DENSE_SIZE`` unknowns: small problems,
+    where the sparse pattern's bookkeeping costs more than the dense LU), else sparse.
+    Samples and coefficients are related by the (p, 2H+1) real Fourier matrices (exact
+    for p > 2H; the matrix products cost less than FFTs at the sizes of one orbit).
     """
 
-    def __init__(self, system: DAE, harmonics: int, samples: int | None = None, subharmonic: int = 1):
+    def __init__(self, system: DAE, harmonics: int, samples: int | None = None, subharmonic: int = 1,
+                 dense: bool | None = None):
         if not isinstance(system, DAE):
             raise InputError(f"expected a periodyn.DAE, got {type(system).__name__}")
         if not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
@@ -76,7 +83,12 @@ class IHBProblem:
         self.size = (self.n + self.m) * self.L
         self.D = derivative_matrix(self.H)
         self.theta = sample_angles(self.p)
-        self._pattern = None  # JacobianPattern of the Newton Jacobian, built at its first evaluation
+        k = np.arange(1, self.H + 1)
+        self._E = np.hstack([np.ones((self.p, 1)), np.cos(np.outer(self.theta, k)), np.sin(np.outer(self.theta, k))])
+        self._ED, self._EDD = self._E @ self.D, self._E @ self.D @ self.D  # samples of d/dtau, d2/dtau2
+        self._Pr = self._E.T * np.concatenate([[1.0], np.full(2 * self.H, 2.0)])[:, None] / self.p  # Galerkin
+        self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
+        self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
     def split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -121,11 +133,8 @@ class IHBProblem:
         """Samples over one orbit: t (p,), q, q', q'' (p, n), lambda (p, m)."""
         Om = omega / self.nu
         Aq, Al = self.split(X)
-        q = real_samples(Aq, self.p)
-        qd = Om * real_samples(self.D @ Aq, self.p)
-        qdd = Om ** 2 * real_samples(self.D @ (self.D @ Aq), self.p)
-        lam = real_samples(Al, self.p) if self.m else np.zeros((self.p, 0))
-        return self.theta / Om, q, qd, qdd, lam
+        lam = self._E @ Al if self.m else np.zeros((self.p, 0))
+        return self.theta / Om, self._E @ Aq, Om * (self._ED @ Aq), Om ** 2 * (self._EDD @ Aq), lam
 
     def residual(self, X: np.ndarray, omega: float, params=None) -> np.ndarray:
         """R(X), shape (size,)."""
@@ -161,7 +170,7 @@ class IHBProblem:
         P = sysm.parameters if params is None else params
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         r1, r2, _, M, Pq = self._sampled(t, q, qd, qdd, lam, omega, P)
-        R = self.join(real_coefficients(r1, self.H), real_coefficients(r2, self.H) if self.m else np.zeros((self.L, 0)))
+        R = self.join(self._Pr @ r1, self._Pr @ r2 if self.m else np.zeros((self.L, 0)))
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
@@ -171,7 +180,21 @@ class IHBProblem:
         if sysm.mass_jacobian is not None:
             Kt += sysm.mass_jacobian(q, qdd)
         Ct = -Cf
-        return R, self._assemble(Kt, Ct, M, Pq, omega)
+        return R, (self._dense(Kt, Ct, M, Pq, omega) if self.dense else self._assemble(Kt, Ct, M, Pq, omega))
+
+    def _dense(self, Kt, Ct, M, Pq, omega):
+        """Dense Jacobian: block (i, j) of the coordinates is Pr diag(K_ij) E + Om Pr diag(C_ij) E D
+        + Om^2 Pr diag(M_ij) E D^2, the multiplier blocks Pr diag(Phi_q) E (Galerkin of the samples)."""
+        Om, p, n, m, L = omega / self.nu, self.p, self.n, self.m, self.L
+        T = (Kt.reshape(p, n * n, 1) * self._E[:, None] + Om * Ct.reshape(p, n * n, 1) * self._ED[:, None]
+             + Om ** 2 * np.asarray(M).reshape(p, n * n, 1) * self._EDD[:, None])
+        Jqq = np.tensordot(self._Pr, T, axes=(1, 0)).reshape(L, n, n, L).transpose(1, 0, 2, 3).reshape(n * L, n * L)
+        if not m:
+            return Jqq
+        G = np.tensordot(self._Pr, Pq.reshape(p, m * n, 1) * self._E[:, None], axes=(1, 0))
+        G = G.reshape(L, m, n, L).transpose(1, 0, 2, 3).reshape(m * L, n * L)  # rows of Phi: (c, k), (j, l)
+        Jp = np.asarray(G.reshape(m, L, n, L).transpose(2, 1, 0, 3).reshape(n * L, m * L))  # (j, k), (c, l)
+        return np.block([[Jqq, Jp], [G, np.zeros((m * L, m * L))]])
 
     def _assemble(self, Kt, Ct, M, Pq, omega):
         """Sparse Jacobian on the problem's fixed pattern (``periodyn.nonlinear.ihb_jacobian``), rebuilt

@@ -26,7 +26,7 @@ import scipy.linalg as sla
 
 from ..errors import ConvergenceError
 from ..stability.floquet import FloquetExponents
-from ..stability.methods import method_named, spectra_operator
+from ..stability.methods import DeferredOperator, method_named, spectra_operator
 from ..numerics.spectra import fourier_coefficients, to_samples
 from ..system import RheoLinear
 
@@ -124,6 +124,9 @@ def orbit_exponents(lin: OrbitLinearization, method: str = "magnus", harmonics: 
         return FloquetExponents.from_multipliers(np.zeros(0), rheo.omega, method)
     S = rheo.spectra
     K = (S.mass.shape[0] - 1) // 2
-    op = spectra_operator(S.mass, S.damping, S.stiffness, rheo.omega, harmonics or max(K // 2, 4)) \
-        if entry.operator else None
+    m = harmonics or max(K // 2, 4)
+    op = None
+    if entry.operator:
+        op = DeferredOperator(m, lin.r, lambda: spectra_operator(S.mass, S.damping, S.stiffness, rheo.omega, m))
+        op = op if entry.deferred else op()
     return entry.exponents(rheo, op, steps=max(128, 4 * rheo.samples))

@@ -34,7 +34,8 @@ from .reduced import ReducedStability, reduced_choices, system_model
 
 __all__ = ["StabilityMethod", "register", "method_named", "check_method", "names", "characteristic_exponents",
            "operator_exponents", "hill_exponents", "spectra_operator", "auto_exponents", "choose_method",
-           "method_costs", "hill_cost", "hill_costs_many", "magnus_reason", "stability_choice", "HILL_TIME_FACTOR"]
+           "method_costs", "hill_cost", "hill_costs_many", "magnus_reason", "stability_choice", "HILL_TIME_FACTOR",
+           "DeferredOperator"]
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,7 @@ class StabilityMethod:
     sweep_cost(stage, w, base) -> estimated seconds (S,) of a speed whose harmonic balance
     costs ``base`` s. cost(pattern, n, shifts) -> estimated seconds at one speed (the Hill
     methods, compared by the auto rule). rule: how it chooses per point, recorded with a sweep.
+    deferred: ``exponents`` accepts a :class:`DeferredOperator` (builds the operator only when needed).
     """
 
     name: str
@@ -69,6 +71,7 @@ class StabilityMethod:
     sweep_cost: Callable | None = None
     cost: Callable | None = None
     rule: str = ""
+    deferred: bool = False
 
 
 REGISTRY: dict[str, StabilityMethod] = {}
@@ -199,16 +202,40 @@ def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float
             f"({est.steps[i]} steps: error {est.error[i]:.1g}, margin {est.margin[i]:.2g})")
 
 
-def auto_exponents(system: RheoLinear, op: HillOperator, steps: int | None = None) -> FloquetExponents:
+@dataclass(frozen=True)
+class DeferredOperator:
+    """A Hill operator built only when called: ``build()`` -> HillOperator of m harmonics
+    and n coordinates (what "auto" needs to size Hill's cost before it exists)."""
+
+    m: int
+    n: int
+    build: Callable[[], HillOperator]
+
+    def __call__(self) -> HillOperator:
+        return self.build()
+
+
+def auto_exponents(system: RheoLinear, op, steps: int | None = None) -> FloquetExponents:
     """Stability method "auto" at one system: Magnus with step doubling where its error
     estimate certifies the verdict within the estimated cost of the cheaper Hill method
     (:class:`periodyn.stability.magnus.MagnusLadder`), else that Hill method; the choice and
     its reason are on the result (the rule of the sweeps, which build the ladder once per
-    model). steps: unused (the ladder chooses)."""
-    hill, seconds, _ = hill_cost(op)
+    model). op: the HillOperator, or a :class:`DeferredOperator`: then the ladder is first
+    given the least either Hill method can cost at its size (dense, or one ARPACK shift on
+    the narrowest band), and the operator is built only when that does not settle the
+    verdict (a small orbit's Magnus run costs far less than building it). steps: unused."""
     S = system.spectra
     ladder = MagnusLadder(S.mass, S.damping[..., None], S.stiffness[..., None])
     w = np.array([float(system.omega)])
+    if isinstance(op, DeferredOperator):
+        floor = min(_costs((2 * op.m + 1) * op.n, op.n, op.n)[:2])
+        est = ladder.solve(w, np.array([floor * HILL_TIME_FACTOR]))
+        if est.accepted[0]:
+            nan = np.full(2 * system.n, np.nan)
+            return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus",
+                                    reason=magnus_reason(est, 0, "least", floor, float(est.first_cost[0])))
+        op = op()
+    hill, seconds, _ = hill_cost(op)
     est = ladder.solve(w, np.array([seconds * HILL_TIME_FACTOR]))
     reason = magnus_reason(est, 0, hill, seconds, float(est.first_cost[0]))
     if est.accepted[0]:
@@ -274,7 +301,7 @@ for _method in (
                                 "else the cheaper Hill method",
                         auto_exponents, operator=True, system=True, choose=_auto_choices, delegates=("dense", "sparse"),
                         prepare=lambda model: MagnusLadder(*model._power_spectra[:3]), sweep_cost=_auto_cost,
-                        rule=_AUTO_RULE),
+                        rule=_AUTO_RULE, deferred=True),
         StabilityMethod("sparse", "Hill's method, ARPACK shift-invert subset of the eigenvalues",
                         _hill_rule("sparse"), operator=True,
                         cost=lambda pat, n, shifts: shifts * _costs(pat.size, pat.half_bandwidth, n)[1]),

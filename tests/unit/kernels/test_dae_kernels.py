@@ -120,10 +120,11 @@ def test_product_blocks_equal_galerkin_quadrature():
                                          (slider_rod_pendulum, 6.0), (lambda: slider_chain_pendulum(3), 4.0)])
 def test_ihb_jacobian_against_finite_differences(build, omega):
     s = build()
-    prob = IHBProblem(s, 3)
-    X = prob.initial(omega=omega) + 0.03 * RNG.standard_normal(prob.size)
-    R, J = prob.residual_jacobian(X, omega)
-    h = 1e-6
-    fd = np.stack([(prob.residual(X + h * e, omega) - prob.residual(X - h * e, omega)) / (2 * h)
-                   for e in np.eye(prob.size)], axis=1)
-    np.testing.assert_allclose(J.toarray(), fd, atol=1e-7 * max(1.0, np.abs(fd).max()))
+    for dense in (True, False):
+        prob = IHBProblem(s, 3, dense=dense)
+        X = prob.initial(omega=omega) + 0.03 * np.random.default_rng(3).standard_normal(prob.size)
+        R, J = prob.residual_jacobian(X, omega)
+        h = 1e-6
+        fd = np.stack([(prob.residual(X + h * e, omega) - prob.residual(X - h * e, omega)) / (2 * h)
+                       for e in np.eye(prob.size)], axis=1)
+        np.testing.assert_allclose(J if dense else J.toarray(), fd, atol=1e-7 * max(1.0, np.abs(fd).max()))

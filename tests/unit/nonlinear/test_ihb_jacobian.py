@@ -40,7 +40,7 @@ def dense_block_jacobian(prob, X, omega):
                                          (lambda: slider_chain_pendulum(4), 4.0)])
 def test_pattern_jacobian_equals_the_dense_block_assembly_and_grows_when_needed(build, omega):
     s = build()
-    prob = IHBProblem(s, 5)
+    prob = IHBProblem(s, 5, dense=False)
     X0 = prob.initial(omega=omega)
     J0 = prob.residual_jacobian(X0, omega)[1]  # constant orbit: diagonal and band-0 blocks only
     np.testing.assert_allclose(J0.toarray(), dense_block_jacobian(prob, X0, omega), rtol=0, atol=1e-12 * abs(J0).max())
@@ -60,7 +60,7 @@ def test_blocks_are_harmonic_bands_on_a_small_orbit():
     harmonics: the stored Jacobian keeps those bands (fewer entries than full blocks) and
     still equals the dense assembly."""
     s = slider_chain_pendulum(4)
-    prob = IHBProblem(s, 8)
+    prob = IHBProblem(s, 8, dense=False)
     sol = ihb(s, 2.0, 8, stability=None)
     X = prob.from_solution(sol)
     J = prob.residual_jacobian(X, 2.0)[1]
@@ -68,3 +68,19 @@ def test_blocks_are_harmonic_bands_on_a_small_orbit():
     reach = prob._pattern.reach
     assert 0 <= reach.max() < 2 * prob.H
     np.testing.assert_allclose(J.toarray(), A, rtol=0, atol=1e-12 * np.abs(A).max())
+
+
+@pytest.mark.parametrize("build,omega", [(duffing, 1.3), (rod_pendulum, 3.0), (slider_rod_pendulum, 6.0),
+                                         (lambda: slider_chain_pendulum(3), 4.0)])
+def test_dense_jacobian_of_small_problems_equals_the_block_assembly(build, omega):
+    """Small problems get a dense Jacobian (Galerkin matrices of the samples, no FFT): the
+    FFT block twin gives the same matrix, and the residual is the same as the sparse path's."""
+    s = build()
+    prob = IHBProblem(s, 5)
+    assert prob.dense and prob.size <= 200
+    X = prob.initial(omega=omega) + 0.05 * RNG.standard_normal(prob.size)
+    R, J = prob.residual_jacobian(X, omega)
+    A = dense_block_jacobian(prob, X, omega)
+    assert isinstance(J, np.ndarray)
+    np.testing.assert_allclose(J, A, rtol=0, atol=1e-12 * np.abs(A).max())
+    np.testing.assert_allclose(R, IHBProblem(s, 5, dense=False).residual(X, omega), rtol=0, atol=1e-14)
