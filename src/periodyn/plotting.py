@@ -242,16 +242,16 @@ def drawn_branch(branch, parent=None, rtol: float = 1e-6):
     there), are typed "period-doubling", as they are on ``parent``."""
     from dataclasses import replace
 
+    from .studies.orbits import first_pass, rejoining_points
+
     def same(a, b) -> bool:
         return abs(a - b) <= rtol * max(abs(a), abs(b))
 
     points = list(branch.special_points)
     end = len(branch.omega)
     if parent is not None:
-        doublings = [p.omega for p in parent.points("period-doubling")]
-        at_parent = [p for p in points if p.index > 0 and any(same(p.omega, w) for w in doublings)]
-        if at_parent:
-            end = min(p.index for p in at_parent) + 2
+        at_parent = rejoining_points(branch, parent, rtol)
+        end = first_pass(branch, parent, rtol)
         points = [replace(p, type="period-doubling") if p in at_parent else p for p in points]
     kept = []
     for p in points:

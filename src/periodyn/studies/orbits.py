@@ -6,8 +6,8 @@ an element model along every orbit of a branch (``output_samples``).
 
     time_history = { omega = 3.6, branch = "frequency", start = "orbit", samples = 40 }
 
-omega (in omega.unit): the branch point nearest to it (start "steady_state": exactly
-it); branch: "frequency" (default) or "period_doubled"; samples: integration times over
+omega (in omega.unit): the branch point nearest to it (on the period-doubled branch
+within its first pass, :func:`first_pass`; start "steady_state": exactly it); branch: "frequency" (default) or "period_doubled"; samples: integration times over
 one orbit period, both ends included (default 40); rtol, atol: of the integration
 (default 1e-10, 1e-12). start, the state the integration starts from at t = 0:
 
@@ -34,7 +34,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-__all__ = ["check_time_history", "orbit_time_history", "branch_outputs", "element_model_of"]
+__all__ = ["check_time_history", "orbit_time_history", "branch_outputs", "element_model_of", "rejoining_points",
+           "first_pass"]
 
 _STARTS = ("orbit", "shooting", "steady_state")
 _BRANCHES = ("frequency", "period_doubled")
@@ -91,7 +92,8 @@ def orbit_time_history(system, branches: dict, request: dict, omega: float, harm
             raise InputError(f"time_history: the study has no {branch_name} branch (it has "
                              f"{', '.join(branches)}); choose branch = \"frequency\"")
         branch = branches[branch_name]
-        orbit = branch.solutions[int(np.argmin(np.abs(branch.omega - omega)))]
+        end = first_pass(branch, branches["frequency"]) if branch_name == "period_doubled" else len(branch.omega)
+        orbit = branch.solutions[int(np.argmin(np.abs(branch.omega[:end] - omega)))]
         start = orbit
         if request["start"] == "shooting":
             start = shooting(system, orbit.omega, initial=orbit, subharmonic=int(orbit.subharmonic))
@@ -113,6 +115,23 @@ def orbit_time_history(system, branches: dict, request: dict, omega: float, harm
                "orbit_method": orbit.method, "orbit_residual": float(orbit.residual),
                "deviation": float(np.max(np.abs(th.q - orbit(th.t)))),
                "description": "orbit (lines) against the motion integrated from the start state over one period"})
+
+
+def rejoining_points(branch, parent, rtol: float = 1e-6) -> list:
+    """The special points of a period-doubled ``branch`` (past its first point) that lie
+    at a period-doubling point of ``parent``, the period-1 branch it was switched from
+    (omega within ``rtol``): where it rejoins ``parent``."""
+    doublings = [p.omega for p in parent.points("period-doubling")]
+    return [p for p in branch.special_points
+            if p.index > 0 and any(abs(p.omega - w) <= rtol * max(abs(p.omega), abs(w)) for w in doublings)]
+
+
+def first_pass(branch, parent, rtol: float = 1e-6) -> int:
+    """Number of points of a period-doubled ``branch`` up to where it first rejoins
+    ``parent`` (:func:`rejoining_points`; all points when it does not): beyond, the
+    continuation retraces it as the orbits shifted by one period T."""
+    at_parent = rejoining_points(branch, parent, rtol)
+    return min(p.index for p in at_parent) + 2 if at_parent else len(branch.omega)
 
 
 def element_model_of(system):
