@@ -232,6 +232,10 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
     if cache.finished(out, spec, omega, resume):
         return load_study(out)
     system = spec.build()
+    model = None if spec.output_samples is None else element_model_of(system)
+    if spec.output_samples is not None and (model is None or not model.outputs):
+        raise InputError(f"{spec.source}: [continuation] output_samples: {spec.example} is not an element model "
+                         "with outputs; drop output_samples")
     a, b = spec.omega_range(omega)
     H, notes = spec.harmonics, []
 
@@ -268,27 +272,28 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
                                              b, **kw)
         else:
             notes.append("no period-doubling point on the frequency branch: no period_doubled branch")
-    groups = {key: branch.to_dataset() for key, branch in branches.items()}
+    _write(out, spec, cache.stamp(spec, omega), branches, _groups(spec, system, model, branches, progress), notes)
+    return branches
+
+
+def _groups(spec: StudySpec, system, model, branches: dict, progress) -> dict:
+    """The result's groups: each branch (with the model's numeric metadata, and its element
+    outputs with ``output_samples``) and the time history (:mod:`periodyn.studies.orbits`)."""
     metadata = {k: float(v) for k, v in (getattr(system, "metadata", None) or {}).items()
                 if isinstance(v, (int, float)) and not isinstance(v, bool)}
-    for ds in groups.values():
+    groups = {}
+    for key, branch in branches.items():
+        ds = branch.to_dataset()
         ds.attrs["model_metadata"] = json.dumps(metadata, sort_keys=True)  # e.g. reference frequencies (rad/s)
-    if spec.output_samples is not None:
-        model = element_model_of(system)
-        if model is None or not model.outputs:
-            raise InputError(f"{spec.source}: [continuation] output_samples: {spec.example} is not an element model "
-                             "with outputs; drop output_samples")
-        groups = {key: ds.merge(branch_outputs(model, branches[key], spec.output_samples))
-                  for key, ds in groups.items()}
+        groups[key] = ds if model is None else ds.merge(branch_outputs(model, branch, spec.output_samples))
     if spec.time_history is not None:
         th = orbit_time_history(system, branches, spec.time_history,
-                                spec.time_history["omega"] * FIXED_UNITS[spec.omega_unit], H)
+                                spec.time_history["omega"] * FIXED_UNITS[spec.omega_unit], spec.harmonics)
         groups["time_history"] = th
         if progress is not None:
             print(f"{spec.name} time_history: omega = {th.attrs['omega']:.5g} rad/s, integration deviates "
                   f"{th.attrs['deviation']:.2e} from the orbit", file=progress, flush=True)
-    _write(out, spec, cache.stamp(spec, omega), branches, groups, notes)
-    return branches
+    return groups
 
 
 def _write(out: Path, spec: StudySpec, stamp: dict, branches: dict, groups: dict, notes: list[str]) -> None:

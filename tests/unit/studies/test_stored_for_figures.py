@@ -43,6 +43,14 @@ def test_the_time_history_table_is_checked_in_the_one_dialect():
             _parse(bad)
 
 
+def test_output_samples_need_an_element_model_with_outputs_before_anything_runs(tmp_path):
+    from periodyn.studies.spec import run
+
+    with pytest.raises(InputError, match="rod_pendulum is not an element model with outputs; drop output_samples"):
+        run(_parse("output_samples = 16"), tmp_path / "rod.nc")
+    assert not (tmp_path / "rod.nc").exists()
+
+
 def test_the_old_key_reads_as_the_table_and_a_change_makes_the_result_stale():
     with pytest.warns(DeprecationWarning, match="time_history = { omega = w }"):
         old = _parse("time_history_omega = 3.6")
