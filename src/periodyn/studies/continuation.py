@@ -272,13 +272,15 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
                                              b, **kw)
         else:
             notes.append("no period-doubling point on the frequency branch: no period_doubled branch")
-    _write(out, spec, cache.stamp(spec, omega), branches, _groups(spec, system, model, branches, progress), notes)
+    groups = _groups(spec, system, model, branches, notes, progress)
+    _write(out, spec, cache.stamp(spec, omega), branches, groups, notes)
     return branches
 
 
-def _groups(spec: StudySpec, system, model, branches: dict, progress) -> dict:
+def _groups(spec: StudySpec, system, model, branches: dict, notes: list[str], progress) -> dict:
     """The result's groups: each branch (with the model's numeric metadata, and its element
-    outputs with ``output_samples``) and the time history (:mod:`periodyn.studies.orbits`)."""
+    outputs with ``output_samples``) and the time history (:mod:`periodyn.studies.orbits`;
+    none, with a note, when its branch was not found)."""
     metadata = {k: float(v) for k, v in (getattr(system, "metadata", None) or {}).items()
                 if isinstance(v, (int, float)) and not isinstance(v, bool)}
     groups = {}
@@ -286,7 +288,9 @@ def _groups(spec: StudySpec, system, model, branches: dict, progress) -> dict:
         ds = branch.to_dataset()
         ds.attrs["model_metadata"] = json.dumps(metadata, sort_keys=True)  # e.g. reference frequencies (rad/s)
         groups[key] = ds if model is None else ds.merge(branch_outputs(model, branch, spec.output_samples))
-    if spec.time_history is not None:
+    if spec.time_history is not None and spec.time_history["branch"] not in branches:
+        notes.append(f"no {spec.time_history['branch']} branch: no time history")
+    elif spec.time_history is not None:
         th = orbit_time_history(system, branches, spec.time_history,
                                 spec.time_history["omega"] * FIXED_UNITS[spec.omega_unit], spec.harmonics)
         groups["time_history"] = th
