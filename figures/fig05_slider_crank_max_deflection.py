@@ -6,8 +6,8 @@ Reads the results of ``sweeps/slider_crank.toml`` (computed and stored on first 
 linearized curves. Red and blue: the full non-linear equations (4), 2 % and 1 % damping,
 the branches of ``sweeps/slider_crank_nonlinear.toml`` and
 ``sweeps/slider_crank_nonlinear_1percent.toml`` (arc-length continuation of EGA-IHB with
-Floquet multipliers): the midpoint deflection along each stored orbit (64 samples)
-through the non-linear kinematics, solid stable, dashed unstable, folds marked. At 1 % the
+Floquet multipliers): the midpoint deflection along each orbit through the non-linear
+kinematics, as the studies store it (``output_samples`` times per period), solid stable, dashed unstable, folds marked. At 1 % the
 resonance near omega1/3 bends backwards through two folds (a jump region, the middle
 branch unstable), its peak at the upper fold. The 2 % curve has no fold: its peaks sit
 slightly below the linearized ones and within a few rad/s of them (the one near omega1/4 at
@@ -27,9 +27,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.nonlinear import element_outputs  # noqa: E402
-from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
-                               unique_legend)
+from periodyn.plotting import (drawn_branch, figure_group, figure_result, figure_study, plot_branch,  # noqa: E402
+                               save_figure, unique_legend)
 
 
 def max_deflection(harmonics: np.ndarray, indices: np.ndarray) -> np.ndarray:
@@ -38,13 +37,10 @@ def max_deflection(harmonics: np.ndarray, indices: np.ndarray) -> np.ndarray:
     return np.abs((harmonics @ np.exp(1j * np.outer(indices, theta))).real).max(axis=1)
 
 
-def nonlinear_max_deflection(branch, model, samples: int = 64) -> np.ndarray:
-    """max |y| over one period of every orbit of a non-linear branch (k,)."""
-    out = np.empty(len(branch.omega))
-    for k, (omega, orbit) in enumerate(zip(branch.omega, branch.solutions)):
-        t = np.arange(samples) * orbit.period / samples
-        out[k] = np.abs(element_outputs(model, omega, t, orbit(t))[:, 0]).max()
-    return out
+def nonlinear_max_deflection(group) -> np.ndarray:
+    """max |y| over one period of every orbit of a non-linear branch (k,), from the
+    outputs its study stored (a branch group of the result)."""
+    return np.abs(group["outputs"].sel(output="midpoint_deflection").values).max(axis=1)
 
 
 NONLINEAR = {0.02: ("slider_crank_nonlinear", "C3"), 0.01: ("slider_crank_nonlinear_1percent", "C0")}
@@ -63,10 +59,9 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
         study = figure_study(name)
         if abs(study.parameters["damping"] - damping) > 1e-12:
             raise RuntimeError(f"sweeps/{name}.toml must have damping = {damping}, as Fig. 5")
-        branch = drawn_branch(figure_result(name)["frequency"])
-        model = study.build().equations.model  # the element model the branch was computed for
+        branch = drawn_branch(figure_result(name)["frequency"])  # every point kept, special points once
         plot_branch(ax, branch, None, f"{damping:.0%}, non-linear,", color=color, x=branch.omega,
-                    y=nonlinear_max_deflection(branch, model))
+                    y=nonlinear_max_deflection(figure_group(name, "frequency")))
     for k in (5, 4, 3):
         ax.axvline(w1 / k, color="0.6", ls=":", lw=0.8)
         ax.text(w1 / k, 0.02, f" $\\omega_1/{k}$", transform=ax.get_xaxis_transform(), ha="left", va="bottom",

@@ -11,13 +11,15 @@ Reads the results of ``sweeps/cardan_shaft.toml`` (computed and stored on first 
 Squares: the full non-linear equations (4) at twelve speeds, from the orbits of
 ``sweeps/cardan_shaft_nonlinear.toml`` (implicit shooting), the lateral deflection along
 each orbit through the non-linear kinematics; filled stable, open unstable by the
-multipliers of the shooting monodromy.
+multipliers of the shooting monodromy. The study stores those outputs along each orbit
+(``output_samples = 360`` times per period); the figures only take their maxima.
 
     python figures/fig09_cardan_max_deflection.py [OUT_DIR] [--components]
 """
 
 from __future__ import annotations
 
+import json
 import pathlib
 import sys
 
@@ -27,8 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from periodyn.nonlinear import element_outputs  # noqa: E402
-from periodyn.plotting import figure_result, figure_study, save_figure  # noqa: E402
+from periodyn.plotting import figure_group, figure_result, save_figure  # noqa: E402
 
 NAME = "cardan_shaft"
 NONLINEAR = "cardan_shaft_nonlinear"
@@ -78,26 +79,17 @@ def lateral_maximum(ds) -> np.ndarray:
     return np.hypot(v, w).max(axis=1)
 
 
-def orbit_maxima(model, orbit, samples: int = 360) -> tuple[float, float]:
-    """(max sqrt(v^2 + w^2), max twist) along a non-linear orbit (``model``: its element
-    model) at ``samples`` times per period, measured from the rigid motion as the
-    linearized outputs are (as :func:`periodyn.examples.cardan.orbit_maxima`, which gives
-    |v| alone)."""
-    t = np.arange(samples) * orbit.period / samples
-    y = element_outputs(model, orbit.omega, t, orbit(t))
-    names = [o.name for o in model.outputs]
-    lateral = np.hypot(*(y[:, names.index(output)] for output in LATERAL))
-    return float(lateral.max()), float(y[:, names.index("twist")].max())
-
-
 def nonlinear_points() -> dict[str, np.ndarray]:
     """The non-linear orbits of ``sweeps/cardan_shaft_nonlinear.toml``: omega / omega_b,
-    stable (bool) and the maxima of :func:`orbit_maxima` (``lateral``, ``twist``), (k,) each."""
-    branch = figure_result(NONLINEAR)["frequency"]
-    system = figure_study(NONLINEAR).build()  # the element model the orbits were computed for
-    maxima = np.array([orbit_maxima(system.equations.model, orbit) for orbit in branch.solutions]).reshape(-1, 2)
-    return {"ratio": branch.omega / system.metadata["omega_b"], "stable": branch.stable.astype(bool),
-            "lateral": maxima[:, 0], "twist": maxima[:, 1]}
+    stable (bool), and per orbit the maxima over one period of the lateral deflection
+    sqrt(v^2 + w^2) (``lateral``) and of the twist (``twist``) from the outputs the study
+    stored (measured from the rigid motion as the linearized outputs are), (k,) each."""
+    group = figure_group(NONLINEAR, "frequency")
+    outputs = group["outputs"]                                      # (point, sample, output)
+    lateral = np.hypot(*(outputs.sel(output=output).values for output in LATERAL)).max(axis=1)
+    omega_b = json.loads(group.attrs["model_metadata"])["omega_b"]  # the model's first bending frequency
+    return {"ratio": group["omega"].values / omega_b, "stable": group["stable"].values == 1,
+            "lateral": lateral, "twist": outputs.sel(output="twist").values.max(axis=1)}
 
 
 def draw_nonlinear(ax, points: dict, key: str, legend: str = "lower left") -> None:

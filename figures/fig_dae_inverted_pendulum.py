@@ -17,19 +17,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
-from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
-                               time_history_figure)
-from periodyn.numerics.integration import integrate
-from periodyn.nonlinear import shooting  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_group, figure_result, figure_study, plot_branch,  # noqa: E402
+                               save_figure, time_history_figure)
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
     spec = figure_study("dae_inverted_pendulum")
     branches = figure_result("dae_inverted_pendulum")  # computed when missing
-    s = spec.build()
     H = spec.harmonics
     br = drawn_branch(branches["frequency"])
     b2 = drawn_branch(branches["period_doubled"], parent=br)
@@ -41,7 +37,7 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     axes[0].set_xlim(min(spec.omega[0], b2.omega.min()), max(spec.omega[1], b2.omega.max()))
     axes[0].set_xlabel("omega (rad/s)")
     axes[0].set_ylabel("phi amplitude (rad)")
-    axes[0].set_title(f"base amplitude p = {s.parameters['p']} m, H = {H} (2H on the 2T branch)", fontsize=9)
+    axes[0].set_title(f"base amplitude p = {spec.parameters['p']} m, H = {H} (2H on the 2T branch)", fontsize=9)
     plot_branch(axes[1], brp, 2, "period 1")
     axes[1].set_xlabel("p (m)")
     axes[1].set_title(f"base amplitude at omega = {pc['omega']} rad/s", fontsize=9)
@@ -50,14 +46,10 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_inverted_pendulum_response.png")
 
-    w = spec.time_history_omega
-    j = int(np.argmin(np.abs(b2.omega - w)))
-    sol = b2.solutions[j]
-    direct = shooting(s, sol.omega, initial=sol, subharmonic=2)
-    T = sol.period
-    th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 50))
-    fig = time_history_figure(sol, th, [2], [0, 1], ["phi"], ["lambda_x", "lambda_y"],
-                              f"period-doubled orbit at omega = {sol.omega:.3f} rad/s: IHB vs integration (shooting start)")
+    th = figure_group("dae_inverted_pendulum", "time_history")
+    fig = time_history_figure(th, ["phi_rod"], ["lambda_j0_x", "lambda_j0_y"], ["phi"], ["lambda_x", "lambda_y"],
+                              f"period-doubled orbit at omega = {th.attrs['omega']:.3f} rad/s: IHB vs integration "
+                              "(shooting start)")
     p2 = save_figure(fig, out_dir / "fig_dae_inverted_pendulum_time.png")
     return [p1, p2]
 

@@ -13,19 +13,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
-from periodyn.plotting import (drawn_branch, figure_result, figure_study, plot_branch, save_figure,  # noqa: E402
-                               time_history_figure)
-from periodyn.numerics.integration import integrate
-from periodyn.nonlinear import shooting  # noqa: E402
+from periodyn.plotting import (drawn_branch, figure_group, figure_result, figure_study, plot_branch,  # noqa: E402
+                               save_figure, time_history_figure)
 
 
 def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     out_dir = pathlib.Path(out_dir)
     spec = figure_study("dae_slider_rod_pendulum")
     branches = figure_result("dae_slider_rod_pendulum")  # computed when missing
-    s = spec.build()
     H = spec.harmonics
     br = drawn_branch(branches["frequency"])
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
@@ -36,18 +32,14 @@ def main(out_dir: pathlib.Path) -> list[pathlib.Path]:
     for ax in axes:
         ax.set_xlabel("omega (rad/s)")
         ax.grid(alpha=0.3)
-    fig.suptitle(f"slider-rod pendulum, f = {s.parameters['f']} N, H = {H}", fontsize=9)
+    fig.suptitle(f"slider-rod pendulum, f = {spec.parameters['f']} N, H = {H}", fontsize=9)
     fig.tight_layout()
     p1 = save_figure(fig, out_dir / "fig_dae_slider_rod_pendulum_response.png")
 
-    w = spec.time_history_omega
-    j = int(np.argmin(np.abs(br.omega - w)))
-    sol = br.solutions[j]
-    direct = shooting(s, sol.omega, initial=sol)
-    T = sol.period
-    th = integrate(s, sol.omega, (0, T), direct(0.0)[0], direct.velocity(0.0)[0], t_eval=np.linspace(0, T, 40))
-    fig = time_history_figure(sol, th, [0, 4], [0, 1, 2], ["x1", "phi2"], ["lambda_slider", "lambda_jx", "lambda_jy"],
-                              f"slider-rod pendulum, omega = {sol.omega:.3f} rad/s: IHB vs integration")
+    th = figure_group("dae_slider_rod_pendulum", "time_history")
+    fig = time_history_figure(th, ["x_slider", "phi_rod"], ["lambda_s0", "lambda_j0_x", "lambda_j0_y"],
+                              ["x1", "phi2"], ["lambda_slider", "lambda_jx", "lambda_jy"],
+                              f"slider-rod pendulum, omega = {th.attrs['omega']:.3f} rad/s: IHB vs integration")
     p2 = save_figure(fig, out_dir / "fig_dae_slider_rod_pendulum_time.png")
     return [p1, p2]
 

@@ -3,8 +3,11 @@ and small helpers the scripts in ``figures/`` share. Drawing only reads datasets
 branches; :func:`figure_result` runs a study whose result is missing or stale.
 
 The figure scripts read their studies through :func:`figure_study` (the parsed study
-file) and :func:`figure_result` (its result, computed when not current). Two environment
-variables choose where:
+file), :func:`figure_result` (its result, computed when not current) and
+:func:`figure_group` (one group of a continuation result: a branch with its stored
+outputs, or the time history). They only read and draw: every number they show is
+computed by the study (``tests/integration/test_figures.py`` checks that no script
+imports a computing module). Two environment variables choose where:
 
 ``PERIODYN_FIGURE_STUDIES``
     a folder of study files that replace those of ``sweeps/`` with the same name (a study
@@ -33,7 +36,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["STUDIES_VARIABLE", "RESULTS_VARIABLE", "figure_study", "figure_result", "speed_axis", "output_unit",
+__all__ = ["STUDIES_VARIABLE", "RESULTS_VARIABLE", "figure_study", "figure_result", "figure_group", "speed_axis", "output_unit",
            "unstable_spans", "shade_unstable", "grid_points", "plot_sweep", "save_figure",
            "plot_branch", "drawn_branch", "unique_legend", "time_history_figure", "plot_study", "plot_transient",
            "plot_campbell", "plot_bode"]
@@ -76,6 +79,23 @@ def figure_result(name: str):
 
     studies, results = _study_folders(name)
     return ensure(name, results, studies)
+
+
+def figure_group(name: str, group: str) -> xr.Dataset:
+    """The netCDF group ``group`` of the continuation study ``<name>``'s result (computed
+    first when not current, as :func:`figure_result`): a branch ("frequency", ... with its
+    ``outputs`` when the study stores them) or "time_history"."""
+    from .errors import InputError
+    from .results import load_groups
+
+    figure_result(name)
+    studies, results = _study_folders(name)
+    path = results / f"{name}.nc"
+    groups = load_groups(path)[1]
+    if group not in groups:
+        raise InputError(f"{path} has no group '{group}' (it has {', '.join(groups) or 'none'}); add what makes it "
+                         f"to {studies / (name + '.toml')} (periodyn.studies.orbits)")
+    return groups[group]
 
 
 def speed_axis(ds: xr.Dataset) -> tuple[np.ndarray, str]:
@@ -222,16 +242,16 @@ def drawn_branch(branch, parent=None, rtol: float = 1e-6):
     there), are typed "period-doubling", as they are on ``parent``."""
     from dataclasses import replace
 
+    from .studies.orbits import first_pass, rejoining_points
+
     def same(a, b) -> bool:
         return abs(a - b) <= rtol * max(abs(a), abs(b))
 
     points = list(branch.special_points)
     end = len(branch.omega)
     if parent is not None:
-        doublings = [p.omega for p in parent.points("period-doubling")]
-        at_parent = [p for p in points if p.index > 0 and any(same(p.omega, w) for w in doublings)]
-        if at_parent:
-            end = min(p.index for p in at_parent) + 2
+        at_parent = rejoining_points(branch, parent, rtol)
+        end = first_pass(branch, parent, rtol)
         points = [replace(p, type="period-doubling") if p in at_parent else p for p in points]
     kept = []
     for p in points:
@@ -263,19 +283,18 @@ def unique_legend(ax, **kwargs) -> None:
     ax.legend(uniq.values(), uniq.keys(), **kwargs)
 
 
-def time_history_figure(sol, th, coords, lams, names, lam_names, title):
-    """Two panels: q (coordinates ``coords``) and lambda (``lams``) of a PeriodicSolution
-    (lines) against an integrated TimeHistory ``th`` (markers) over one period."""
-    import matplotlib.pyplot as plt
-
+def time_history_figure(th: xr.Dataset, coords, lams, names, lam_names, title):
+    """Two panels: q (coordinate names ``coords``) and lambda (constraint names ``lams``)
+    of a study's "time_history" group: the orbit (lines) against the integrated motion
+    (markers) over one period; ``names``/``lam_names`` label them."""
     fig, axes = plt.subplots(2, 1, figsize=(6.4, 6), sharex=True)
-    t = np.linspace(th.t[0], th.t[-1], 400)
-    for j, c in enumerate(coords):
-        axes[0].plot(t, sol(t)[:, c], color=f"C{j}", label=f"{names[j]} IHB")
-        axes[0].plot(th.t, th.q[:, c], "o", color=f"C{j}", ms=3, mfc="none", label=f"{names[j]} integration")
-    for j, c in enumerate(lams):
-        axes[1].plot(t, sol.lam(t)[:, c], color=f"C{j}", label=f"{lam_names[j]} IHB")
-        axes[1].plot(th.t, th.lam[:, c], "o", color=f"C{j}", ms=3, mfc="none", label=f"{lam_names[j]} integration")
+    for panel, variables, picked, labels in ((0, ("orbit_q", "q"), coords, names),
+                                             (1, ("orbit_lambda", "lambda"), lams, lam_names)):
+        dim = "coordinate" if panel == 0 else "constraint"
+        for j, (c, label) in enumerate(zip(picked, labels)):
+            orbit, integrated = (th[v].sel({dim: c}) for v in variables)
+            axes[panel].plot(th["orbit_time"], orbit, color=f"C{j}", label=f"{label} {th.attrs['orbit_method'].upper()}")
+            axes[panel].plot(th["time"], integrated, "o", color=f"C{j}", ms=3, mfc="none", label=f"{label} integration")
     axes[0].set_ylabel("q (m, rad)")
     axes[1].set_ylabel("lambda (N)")
     axes[1].set_xlabel("t (s)")

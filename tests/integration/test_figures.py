@@ -2,10 +2,13 @@
 reduced studies of ``tests/data/figure_studies`` (fewer speeds, shorter branches; read
 through ``periodyn.plotting.figure_study``/``figure_result`` with PERIODYN_FIGURE_STUDIES)
 and writes its files into a temporary folder, so that no figure script breaks unnoticed.
-The results are computed once, into a temporary folder shared by the scripts."""
+The results are computed once, into a temporary folder shared by the scripts. The scripts
+only read results and draw: none imports a computing module or builds a model (checked
+statically, in a moment)."""
 
 from __future__ import annotations
 
+import ast
 import importlib.util
 import re
 import sys
@@ -57,3 +60,31 @@ def test_every_committed_figure_file_is_written_by_a_script():
         named |= set(re.findall(r'"([\w.]+\.(?:png|txt))"', script.read_text()))
     committed = {p.name for p in (ROOT / "figures" / "png").iterdir() if p.is_file()}
     assert committed <= named, f"no script writes {sorted(committed - named)}"
+
+
+#: What a figure script may import from periodyn: the plotting helpers (which read results),
+#: and the published numbers that a table prints beside the results (data, not computation).
+READ_ONLY = {"periodyn.plotting": None,
+             "periodyn.examples.rotor_table1": {"TABLE_I_PRESENT", "TABLE_I_REFERENCE", "TABLE_I_SPEED_RPM"}}
+#: Calls that build or evaluate a model: a figure reads the parsed study file, never builds it.
+COMPUTING_CALLS = {"build", "at", "builder"}
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=lambda p: p.stem)
+def test_figure_scripts_only_read_results(script):
+    """No import of a computing module (periodyn.nonlinear, numerics, examples, ...) and no
+    model built: every number a figure draws is computed by a study and read from its result."""
+    tree = ast.parse(script.read_text(), str(script))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                assert not alias.name.startswith("periodyn") or (alias.name in READ_ONLY
+                                                                 and READ_ONLY[alias.name] is None), \
+                    f"{script.name}:{node.lineno} imports {alias.name}"
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("periodyn"):
+            allowed = READ_ONLY.get(node.module, set())
+            names = {alias.name for alias in node.names}
+            assert node.module in READ_ONLY and (allowed is None or names <= allowed), \
+                f"{script.name}:{node.lineno} imports {sorted(names)} from {node.module}"
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            assert node.func.attr not in COMPUTING_CALLS, f"{script.name}:{node.lineno} calls .{node.func.attr}()"

@@ -17,9 +17,12 @@ a ``periodyn.DAE``)::
                                   # at H + 4); true: also integrate the survivors (slow for big models)
     parameter = { name = "f", start = 0.01, stop = 0.3, omega = 3.6 }   # optional curve at fixed omega
     period_doubling = { ds_max = 0.05, max_points = 150 }  # optional: follow the 2T branch
-    time_history_omega = 3.6      # optional: read by the figure script only
+    time_history = { omega = 3.6, start = "steady_state" }  # optional: an orbit against integration
+    output_samples = 64           # optional, element models: their outputs along every orbit
 
-Every omega of the table (the parameter curve's and time_history_omega too) is in omega.unit.
+Every omega of the table (the parameter curve's and time_history's too) is in omega.unit.
+``time_history`` and ``output_samples``: :mod:`periodyn.studies.orbits` (what the figures
+draw, computed here so that figure scripts only read).
 
 With ``omega.values`` the "frequency" branch holds one periodic solution per given speed
 (in the order given), each by Newton from a start of its own (below), with no arc-length
@@ -35,7 +38,9 @@ omega.stop), the parameter curve and the period-doubled branch (born at the lowe
 period-doubling point of the frequency branch, followed to omega.stop) and writes ONE
 netCDF file: the root group holds the study attributes (file text, settings, branch names,
 notes), each branch is a group ("frequency", "parameter", "period_doubled") written by
-``Branch.to_dataset``. :func:`load_study` reads it back as {name: Branch}.
+``Branch.to_dataset`` (with its element outputs, ``output_samples``), and the group
+"time_history" holds the orbit against integration. :func:`load_study` reads the
+branches back as {name: Branch}; ``periodyn.results.load_groups`` reads every group.
 """
 
 from __future__ import annotations
@@ -50,12 +55,13 @@ import xarray as xr
 
 from . import cache
 from .checks import FIXED_UNITS, Checker, FileSpec
+from .orbits import branch_outputs, check_time_history, element_model_of, orbit_time_history
 from ..errors import InputError
 
 __all__ = ["StudySpec", "parse_continuation", "run_study", "load_study"]
 
 _KEYS = ("omega", "harmonics", "method", "stability", "subharmonic", "ds_max", "max_points", "tol", "confirm",
-         "parameter", "period_doubling", "time_history_omega")
+         "parameter", "period_doubling", "time_history", "time_history_omega", "output_samples")
 _METHODS = ("ihb", "shooting")
 
 
@@ -63,7 +69,10 @@ _METHODS = ("ihb", "shooting")
 class StudySpec(FileSpec):
     """A validated continuation study. omega: (start, stop) in ``omega_unit``; parameter:
     {name, start, stop, omega} or None; period_doubling: continuation options of the 2T
-    branch or None (no 2T branch); options: ContinuationOptions values from the file."""
+    branch or None (no 2T branch); options: ContinuationOptions values from the file;
+    time_history: the validated table (omega in ``omega_unit``) or None; output_samples:
+    samples per period of the element outputs stored per point, or None
+    (:mod:`periodyn.studies.orbits`)."""
 
     omega: tuple[float, float]
     omega_unit: str
@@ -72,8 +81,9 @@ class StudySpec(FileSpec):
     options: dict[str, Any]
     parameter: dict[str, Any] | None
     period_doubling: dict[str, Any] | None
-    time_history_omega: float | None
+    time_history: dict[str, Any] | None
     speeds: tuple[float, ...] | None = None
+    output_samples: int | None = None
 
     @property
     def kind(self) -> str:
@@ -182,10 +192,13 @@ def parse_continuation(check: Checker, table, *, source, name, text, description
             check.fail("[continuation] period_doubling", "branch switching needs method = \"ihb\"")
         period_doubling = _options(check, check.table(c["period_doubling"], "[continuation] period_doubling"),
                                    "[continuation] period_doubling", strict=True)
-    th = c.get("time_history_omega")
-    th = None if th is None else speed(th, "[continuation] time_history_omega")
+    th = check_time_history(check, c, speed)
+    if th is not None and th["branch"] == "period_doubled" and period_doubling is None:
+        check.fail("[continuation] time_history.branch", "\"period_doubled\" needs period_doubling = { ... }")
+    samples = c.get("output_samples")
+    samples = None if samples is None else check.integer(samples, "[continuation] output_samples", 2)
     return StudySpec(source, name, text, description, example, builder, parameters, omega, unit, harmonics,
-                     method, options, parameter, period_doubling, th, speeds)
+                     method, options, parameter, period_doubling, th, speeds, samples)
 
 
 def _options(check: Checker, table: dict, where: str, strict: bool = False) -> dict:
@@ -219,6 +232,10 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
     if cache.finished(out, spec, omega, resume):
         return load_study(out)
     system = spec.build()
+    model = None if spec.output_samples is None else element_model_of(system)
+    if spec.output_samples is not None and (model is None or not model.outputs):
+        raise InputError(f"{spec.source}: [continuation] output_samples: {spec.example} is not an element model "
+                         "with outputs; drop output_samples")
     a, b = spec.omega_range(omega)
     H, notes = spec.harmonics, []
 
@@ -255,19 +272,43 @@ def run_study(spec: StudySpec, out, *, omega: tuple | None = None, resume: bool 
                                              b, **kw)
         else:
             notes.append("no period-doubling point on the frequency branch: no period_doubled branch")
-    _write(out, spec, cache.stamp(spec, omega), branches, notes)
+    groups = _groups(spec, system, model, branches, notes, progress)
+    _write(out, spec, cache.stamp(spec, omega), branches, groups, notes)
     return branches
 
 
-def _write(out: Path, spec: StudySpec, stamp: dict, branches: dict, notes: list[str]) -> None:
-    """One netCDF file: study attributes in the root group, one group per branch (atomic,
-    checksummed as every result file: :func:`periodyn.results.save`)."""
+def _groups(spec: StudySpec, system, model, branches: dict, notes: list[str], progress) -> dict:
+    """The result's groups: each branch (with the model's numeric metadata, and its element
+    outputs with ``output_samples``) and the time history (:mod:`periodyn.studies.orbits`;
+    none, with a note, when its branch was not found)."""
+    metadata = {k: float(v) for k, v in (getattr(system, "metadata", None) or {}).items()
+                if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    groups = {}
+    for key, branch in branches.items():
+        ds = branch.to_dataset()
+        ds.attrs["model_metadata"] = json.dumps(metadata, sort_keys=True)  # e.g. reference frequencies (rad/s)
+        groups[key] = ds if model is None else ds.merge(branch_outputs(model, branch, spec.output_samples))
+    if spec.time_history is not None and spec.time_history["branch"] not in branches:
+        notes.append(f"no {spec.time_history['branch']} branch: no time history")
+    elif spec.time_history is not None:
+        th = orbit_time_history(system, branches, spec.time_history,
+                                spec.time_history["omega"] * FIXED_UNITS[spec.omega_unit], spec.harmonics)
+        groups["time_history"] = th
+        if progress is not None:
+            print(f"{spec.name} time_history: omega = {th.attrs['omega']:.5g} rad/s, integration deviates "
+                  f"{th.attrs['deviation']:.2e} from the orbit", file=progress, flush=True)
+    return groups
+
+
+def _write(out: Path, spec: StudySpec, stamp: dict, branches: dict, groups: dict, notes: list[str]) -> None:
+    """One netCDF file: study attributes in the root group, one group per branch and the
+    time history (atomic, checksummed as every result file: :func:`periodyn.results.save`)."""
     from ..results import package_versions, save
 
     attrs = {"study": spec.name, "model": spec.example, "description": spec.description,
              "study_file_text": spec.text, "branches": ",".join(branches),
              "notes": "; ".join(notes), "versions": json.dumps(package_versions()), **stamp}
-    save(xr.Dataset(attrs=attrs), out, {key: branch.to_dataset() for key, branch in branches.items()})
+    save(xr.Dataset(attrs=attrs), out, groups)
 
 
 def _read(path: Path) -> dict:

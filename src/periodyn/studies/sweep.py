@@ -12,6 +12,7 @@ Format (``[model]`` and ``description`` as in :mod:`periodyn.studies.spec`)::
                                   # auto | hill | sparse | dense | monodromy | magnus
     boundaries = true             # optional: refine the stability boundaries (1-D sweeps)
     output_units = { phi = "rad" }  # optional: unit of each output in the results
+    quasistatic = 4               # optional: harmonics 1..4 of the quasistatic solution
 
     [sweep.grid]                  # optional: a grid over builder parameters
     zeta = [0.005, 0.01, 0.02]    # or { start = 0.005, stop = 0.02, num = 4 }
@@ -23,6 +24,11 @@ With ``boundaries = true`` every sign change of ``max_real_exponent`` between ne
 speeds is refined by :func:`periodyn.stability.boundaries.stability_boundaries` and stored
 in the result along the dimension ``boundary``: ``boundary_omega`` (rad/s),
 ``boundary_kind`` (fold | period-doubling | neimark-sacker) and ``boundary_becomes_stable``.
+
+With ``quasistatic = N`` the result holds ``quasistatic_amplitude`` (grid..., omega,
+quasistatic_harmonic, output): the amplitudes 2 |G_0 K_0^-1 f_k|, k = 1..N, of the
+quasistatic solution (harmonic k of the forcing through the mean stiffness K_0, mapped by
+the mean output map G_0) at every speed and grid point, a reference beside the harmonics.
 """
 
 from __future__ import annotations
@@ -47,7 +53,7 @@ __all__ = ["SweepSpec", "SweepPlan", "parse_sweep_table", "run_sweep", "MAX_HARM
 
 #: Harmonics a sweep file may ask for: the Hill matrix has (2m+1)·2n rows per speed.
 MAX_HARMONICS = 1000
-_KEYS = ("omega", "harmonics", "samples", "stability", "method", "boundaries", "grid", "output_units")
+_KEYS = ("omega", "harmonics", "samples", "stability", "method", "boundaries", "grid", "output_units", "quasistatic")
 
 
 @dataclass(frozen=True)
@@ -76,6 +82,7 @@ class SweepSpec(FileSpec):
     grid: dict[str, list]
     output_units: dict[str, str] = field(default_factory=dict)
     boundaries: bool = False
+    quasistatic: int = 0
 
     @property
     def kind(self) -> str:
@@ -189,8 +196,12 @@ def parse_sweep_table(check: Checker, table, *, source, name, text, description,
     if boundaries and (grid or not stability):
         check.fail("[sweep] boundaries", "stability boundaries need stability = true and a sweep over omega "
                                          "alone (no [sweep.grid])")
+    quasistatic = check.integer(sweep.get("quasistatic", 0), "[sweep] quasistatic", 0)
+    if quasistatic > harmonics:
+        check.fail("[sweep] quasistatic", f"{quasistatic} quasistatic harmonics exceed the sweep's {harmonics}; "
+                                          f"give at most {harmonics}")
     return SweepSpec(source, name, text, description, example, builder, parameters, omega_spec, unit,
-                     harmonics, samples, stability, method, grid, output_units, boundaries)
+                     harmonics, samples, stability, method, grid, output_units, boundaries, quasistatic)
 
 
 def _stability(check: Checker, sweep: dict) -> tuple[bool, str]:
@@ -237,6 +248,8 @@ def run_sweep(spec: SweepSpec, out, *, omega=None, resume: bool = False, workers
                               progress=progress, chunk_size=chunk_size)
         if spec.boundaries:
             ds = ds.merge(_boundaries(spec, ds))
+        if spec.quasistatic:
+            ds = ds.merge(_quasistatic(spec, ds))
         ds.attrs.update(cache.stamp(spec, omega))
         save(ds, out)
         return ds
@@ -257,3 +270,26 @@ def _boundaries(spec: SweepSpec, ds: xr.Dataset) -> xr.Dataset:
     return xr.Dataset({"boundary_omega": ("boundary", [b.omega for b in found], {"units": "rad/s"}),
                        "boundary_kind": ("boundary", np.array([b.kind for b in found], dtype=object)),
                        "boundary_becomes_stable": ("boundary", [b.becomes_stable for b in found])})
+
+
+def _quasistatic(spec: SweepSpec, ds: xr.Dataset) -> xr.Dataset:
+    """``quasistatic_amplitude`` (module docstring) at the speeds and grid points of ``ds``."""
+    grid = list(spec.grid)
+    orders = np.arange(1, spec.quasistatic + 1)
+    shape = [len(spec.grid[g]) for g in grid]
+    values = None
+    for index in np.ndindex(*shape):
+        model = spec.build(**{g: spec.grid[g][i] for g, i in zip(grid, index)})
+        for j, omega in enumerate(ds["omega"].values):
+            spectra = getattr(model, "at", lambda w: model)(float(omega)).spectra
+            K = (spectra.stiffness.shape[0] - 1) // 2
+            G0, K0 = spectra.outputs[(spectra.outputs.shape[0] - 1) // 2].real, spectra.stiffness[K].real
+            forced = np.linalg.solve(K0, spectra.force[K + orders].T)      # (n, N)
+            row = 2.0 * np.abs(G0 @ forced).T                              # (N, n_out)
+            if values is None:
+                values = np.empty((*shape, ds.sizes["omega"], *row.shape))
+            values[(*index, j)] = row
+    return xr.Dataset({"quasistatic_amplitude": ((*grid, "omega", "quasistatic_harmonic", "output"), values,
+                                                 {"description": "2 |G_0 K_0^-1 f_k|: harmonic k of the forcing "
+                                                                 "through the mean stiffness and output map"})},
+                      coords={"quasistatic_harmonic": orders})
