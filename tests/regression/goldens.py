@@ -111,7 +111,7 @@ def rod_pendulum_branch() -> dict:
     multiplier, and the special points (type, index, omega, swing amplitude)."""
     from periodyn.arclength import continuation
 
-    br = continuation(periodyn.examples.rod_pendulum(), (2.5, 5.0), harmonics=10, ds_max=0.1)
+    br = continuation(periodyn.examples.rod_pendulum(), (2.5, 5.0), harmonics=10, ds_max=0.1, stability="magnus")
     phi = br.solutions[0].coordinate_names.index("phi_rod")
     sp = br.special_points
     return {"omega": [float(w) for w in br.omega], "amplitude_phi": [float(s.amplitude()[phi]) for s in br.solutions],
