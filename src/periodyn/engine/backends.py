@@ -362,17 +362,20 @@ def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: Execut
     from distributed import as_completed as dask_as_completed
 
     client, owned = _dask_client(execution.scheduler, workers)
-    futures = []
+    left: set = set()  # futures not yet collected: a collected chunk is released on its worker at once
     try:
         payload = cloudpickle.dumps(job)
         token = hashlib.sha256(payload).hexdigest()
         shared = client.scatter(payload, broadcast=True)
-        futures = [client.submit(_solve_on_dask_worker, shared, token, chunk, pure=False) for chunk in chunks]
-        for future in dask_as_completed(futures):
-            yield future.result()
+        left.update(client.submit(_solve_on_dask_worker, shared, token, chunk, pure=False) for chunk in chunks)
+        for future in dask_as_completed(list(left)):
+            result = future.result()
+            left.discard(future)
+            del future
+            yield result
     finally:
-        if futures:
-            client.cancel(futures)
+        if left:
+            client.cancel(list(left))
         for thing in owned:
             thing.close()
 

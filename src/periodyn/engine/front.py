@@ -38,7 +38,8 @@ from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
 from .session import check_interrupt, sweep_guard
-from ..results import STATUS_SOLVED, load, options_attrs, package_versions, to_dataset
+from .stream import STREAM_POINTS, Tally, streamed_columns, write_streamed
+from ..results import load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
 
 __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "available_cores", "auto_workers",
@@ -67,12 +68,12 @@ def _check_grid(model, parameters) -> tuple[tuple[str, ...], tuple[np.ndarray, .
     return tuple(names), tuple(values)
 
 
-def _finished(out: Path, key: str, resume: bool) -> xr.Dataset | None:
-    """The finished result at ``out`` when resuming a sweep with the same fingerprint;
-    refuses (InputError) one made with other settings rather than overwrite it."""
+def _finished(out: Path, key: str, resume: bool, lazy: bool) -> xr.Dataset | None:
+    """The finished result at ``out`` (opened lazily: ``lazy``) when resuming a sweep with the
+    same fingerprint; refuses (InputError) one made with other settings rather than overwrite it."""
     if not (resume and out.is_file() and not out.with_name(out.name + ".parts").exists()):
         return None
-    finished = load(out)
+    finished = load(out, lazy=lazy)
     if finished.attrs.get("fingerprint") != key:
         raise InputError(f"{out} is a finished result made with other settings (model, speeds, harmonics, "
                          "samples, stability or method), and resuming would overwrite it; rerun with "
@@ -137,11 +138,15 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         backend = "dask" if execution.scheduler is not None else "processes" if workers > 1 else "serial"
 
         checkpoint = None
-        collected = Collected(job.empty(total))
-        collected.arrays["index"][:] = np.arange(total)
+        streamed = out is not None and (output.stream if output.stream is not None else total >= STREAM_POINTS)
+        if streamed:  # no result values kept here: they go to the checkpoints, the file is written from them
+            collected = Tally(total, Checkpoint.file_name)
+        else:
+            collected = Collected(job.empty(total))
+            collected.arrays["index"][:] = np.arange(total)
         if out is not None:
             key = fingerprint(job, options, output.sweep_file_text or model_identity(model))
-            finished = _finished(out, key, resume)
+            finished = _finished(out, key, resume, streamed)
             if finished is not None:
                 return finished
             checkpoint = Checkpoint(out, key, resume, job.coordinates)
@@ -173,30 +178,33 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
                 bar.update(len(chunk["index"]))
                 check_interrupt()
 
+        failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
                  **options_attrs(options), "backend": backend, "workers": workers if backend != "serial" else 1,
-                 "points": total, "points_computed": int(len(pending)),
-                 "failed_points": int((collected.arrays["status"] != STATUS_SOLVED).sum()),
-                 "stability_methods": _method_counts(collected.arrays["stability_method"], method, stability),
+                 "points": total, "points_computed": int(len(pending)), "failed_points": failed,
+                 "stability_methods": _method_counts(methods, method, stability),
                  "elapsed_s": time.perf_counter() - started,
                  "package_versions": json.dumps(package_versions(), sort_keys=True),
                  "sweep_file_text": output.sweep_file_text or ""}
         if checkpoint is not None:
             attrs["fingerprint"] = checkpoint.fingerprint
-        ds = to_dataset(collected.arrays, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
+        columns = streamed_columns(job, checkpoint.parts, collected) if streamed else collected.arrays
+        ds = to_dataset(columns, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
                         grid=dict(zip(grid_names, grid_values)), reference=reference, attrs=attrs)
+        if streamed:
+            write_streamed(ds, checkpoint.finish)
+            return load(out, lazy=True)
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
 
 
-def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:
-    """Dataset attribute: how many points each stability method served, and the rule of a
-    method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
+def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:
+    """Dataset attribute: how many points each stability method served ({method: points}),
+    and the rule of a method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
     if not stability:
         return "none (stability off)"
-    names, counts = np.unique(np.asarray(methods, dtype=str), return_counts=True)
-    text = ", ".join(f"{name or 'failed'} {count}" for name, count in zip(names, counts))
+    text = ", ".join(f"{name or 'failed'} {methods[name]}" for name in sorted(methods))
     rule = method_named(method).rule
     return f"{text}; {rule}" if rule else text
 
