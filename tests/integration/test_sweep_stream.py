@@ -42,7 +42,7 @@ def file_without_time(path) -> xr.Dataset:
     return ds
 
 
-@pytest.mark.parametrize("block", [7, 1 << 15])  # blocks across chunks and grid rows; one block
+@pytest.mark.parametrize("block", [7, 1 << 13])  # blocks across chunks and grid rows; one block
 def test_streamed_file_equals_the_file_assembled_in_memory(tmp_path, monkeypatch, block):
     monkeypatch.setattr(stream, "BLOCK_POINTS", block)
     kept = sweep(flaky, OMEGA, 4, parameters=GRID, out=tmp_path / "memory.nc", execution=CHUNKS, progress=False,

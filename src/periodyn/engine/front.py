@@ -46,6 +46,7 @@ __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "availabl
            "reference_frequencies", "WORKER_THREAD_ENV", "AUTO_PARALLEL_POINTS"]
 
 _MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
+_MAX_CHUNKS = 2048  # larger sweeps take larger chunks: per-chunk costs (files, messages) stay bounded
 _CHUNKS_PER_WORKER = 8
 _BALANCED_SECONDS = 1.0  # estimated seconds of a sweep from which its chunks are of equal cost, not count
 
@@ -155,16 +156,18 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         pending = np.flatnonzero(~collected.done)
         # several chunks per worker balance the load: of equal count, or of about equal
         # estimated cost in a sweep long enough to gain from it (at low speeds a point may
-        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points, an
+        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points (more
+        # beyond _MAX_CHUNKS chunks), an
         # explicit chunk_size is taken as given
         if backend != "serial":
             job.speed_cost = job.speed_costs()
+        largest = max(_MAX_CHUNK, math.ceil(total / _MAX_CHUNKS))
         if execution.chunk_size or backend == "serial":
-            chunks = split(pending, execution.chunk_size or _MAX_CHUNK)
+            chunks = split(pending, execution.chunk_size or largest)
         else:
             costs = job.point_costs(pending)
             per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
-            size = max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
+            size = max(1, min(largest, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
             chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
 
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():

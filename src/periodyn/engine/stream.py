@@ -24,7 +24,7 @@ from .job import Job
 __all__ = ["Tally", "BLOCK_POINTS", "STREAM_POINTS", "streamed_columns", "write_streamed"]
 
 #: points per block of the result file written from the checkpoints (memory: one block)
-BLOCK_POINTS = 1 << 15
+BLOCK_POINTS = 1 << 13
 #: sweeps writing ``out`` with this many points or more stream by default (OutputOptions.stream)
 STREAM_POINTS = 200_000
 _TEXT = ("message", "stability_method")
