@@ -88,3 +88,15 @@ def test_streamed_sweep_resumes_after_an_interrupt(tmp_path):
     xr.testing.assert_identical(without_attrs(resumed), without_attrs(uninterrupted))
     again = sweep(model, OMEGA, 4, out=out, resume=True, output=options, progress=lambda d, t: pytest.fail("rerun"))
     xr.testing.assert_identical(again, load(out))
+
+
+def test_local_workers_write_their_chunks_and_the_file_equals_serial(tmp_path):
+    """Streamed on local worker processes: the workers write their checkpoint files and send
+    receipts; the file equals the serial sweep's."""
+    model = pendulum(samples=24)
+    serial = sweep(model, OMEGA, 4, progress=False)
+    out = tmp_path / "workers.nc"
+    streamed = sweep(model, OMEGA, 4, workers=2, out=out, progress=False, output=OutputOptions(stream=True),
+                     execution=ExecutionOptions(chunk_size=2, eager_workers=True))
+    assert streamed.attrs["backend"] == "processes"
+    xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))

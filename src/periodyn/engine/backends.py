@@ -32,6 +32,7 @@ import numpy as np
 from ..errors import InputError
 from .job import Job
 from .options import ExecutionOptions
+from .stream import receipt
 from .threads import WORKER_THREAD_ENV, limit_threads, one_thread, worker_environment
 
 __all__ = ["BACKENDS", "run_serial", "run_processes", "run_dask"]
@@ -62,7 +63,13 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    return _WORKER_JOB.solve(indices)
+    """The chunk's results; with ``job.writer`` (streamed results) the worker writes them to
+    their checkpoint file itself and returns only a receipt (:func:`periodyn.engine.stream.receipt`)."""
+    chunk = _WORKER_JOB.solve(indices)
+    if _WORKER_JOB.writer is None:
+        return chunk
+    _WORKER_JOB.writer.write(chunk)
+    return receipt(chunk)
 
 
 def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> dict[str, np.ndarray]:

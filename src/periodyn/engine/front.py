@@ -173,10 +173,12 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
+        if streamed and backend == "processes":
+            job.writer = checkpoint  # the workers write their chunks (receipts come back)
         with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
             for chunk in BACKENDS[backend](job, chunks, workers, execution):
                 collected.add(chunk)
-                if checkpoint is not None:
+                if checkpoint is not None and "written" not in chunk:
                     checkpoint.write(chunk)
                 bar.update(len(chunk["index"]))
                 check_interrupt()

@@ -6,7 +6,9 @@ block by block from the checkpoint files: every variable is a Dask array whose b
 :data:`BLOCK_POINTS` points each, a contiguous range of the flat point index) are read from
 the chunks that hold them, all variables of a block at once. Client memory is then about one
 block plus a few bytes per point (the ``done`` flags, the chunk list), whatever the number of
-points; the values in the file are the same as those of a sweep assembled in memory.
+points; the values in the file are the same as those of a sweep assembled in memory. Local
+worker processes write their chunks' checkpoint files themselves and send back only a
+:func:`receipt`, so the sweep's process does no per-point work for them.
 """
 
 from __future__ import annotations
@@ -21,13 +23,19 @@ import numpy as np
 from ..results import STATUS_SOLVED
 from .job import Job
 
-__all__ = ["Tally", "BLOCK_POINTS", "STREAM_POINTS", "streamed_columns", "write_streamed"]
+__all__ = ["Tally", "receipt", "BLOCK_POINTS", "STREAM_POINTS", "streamed_columns", "write_streamed"]
 
 #: points per block of the result file written from the checkpoints (memory: one block)
 BLOCK_POINTS = 1 << 13
 #: sweeps writing ``out`` with this many points or more stream by default (OutputOptions.stream)
 STREAM_POINTS = 200_000
 _TEXT = ("message", "stability_method")
+
+
+def receipt(chunk: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """What a worker that wrote ``chunk`` to its checkpoint file sends back: the columns a
+    :class:`Tally` reads, marked ``written``."""
+    return {"written": np.True_, **{name: chunk[name] for name in ("index", "status", *_TEXT)}}
 
 
 class Tally:
