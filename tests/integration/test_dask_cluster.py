@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -120,3 +121,14 @@ def test_worker_killed_mid_sweep_result_equals_serial(cluster, tmp_path):
     assert clustered.attrs["backend"] == "dask" and clustered.attrs["points_computed"] == SPEEDS
     serial = sweep_file(load_sweep_file(sweep_path), progress=False)
     xr.testing.assert_identical(without_attrs(clustered), without_attrs(serial))
+
+
+def test_chunks_are_split_for_a_cluster_with_more_threads_than_workers():
+    from periodyn.engine.backends import _for_cluster
+    from periodyn.engine.options import ExecutionOptions
+
+    chunks = [np.arange(0, 10), np.arange(10, 13), np.arange(13, 14)]
+    split = _for_cluster(chunks, slots=8, workers=2, execution=ExecutionOptions())
+    assert len(split) == 4 + 3 + 1 and np.array_equal(np.concatenate(split), np.arange(14))
+    assert _for_cluster(chunks, slots=2, workers=2, execution=ExecutionOptions()) is chunks
+    assert _for_cluster(chunks, slots=8, workers=2, execution=ExecutionOptions(chunk_size=10)) is chunks

@@ -10,7 +10,9 @@ existing cluster the threads are limited when a worker receives its first chunk)
 the serial path limits the caller's process to one thread while it solves, so serial,
 parallel and distributed results agree bit for bit. The job reaches each worker once.
 Local workers ignore Ctrl-C: the sweep's process stops between chunks
-(:mod:`periodyn.engine.session`) and shuts them down.
+(:mod:`periodyn.engine.session`) and shuts them down. On Dask, a worker lost mid-sweep costs only
+its chunks (run again elsewhere), a collected chunk is released on its worker, and chunks are
+split further for a cluster with more threads than ``workers``.
 """
 
 from __future__ import annotations
@@ -63,8 +65,7 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    """The chunk's results; with ``job.writer`` (streamed results) the worker writes them to
-    their checkpoint file itself and returns only a receipt (:func:`periodyn.engine.stream.receipt`)."""
+    """The chunk's results, or with ``job.writer`` (streamed results) written here and a receipt."""
     chunk = _WORKER_JOB.solve(indices)
     if _WORKER_JOB.writer is None:
         return chunk
@@ -78,7 +79,6 @@ def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> di
         limit_threads()
         job = _DASK_JOBS.setdefault(token, cloudpickle.loads(payload))
     return job.solve(indices)
-
 
 
 def run_serial(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
@@ -365,12 +365,22 @@ def _dask_client(scheduler, workers: int):
     return client, [client]
 
 
+def _for_cluster(chunks: list[np.ndarray], slots: int, workers: int, execution: ExecutionOptions) -> list:
+    """The chunks (made for ``workers``) split further for a cluster of ``slots`` worker
+    threads, so each still gets several; an explicit ``chunk_size`` is kept."""
+    if execution.chunk_size or slots <= workers:
+        return chunks
+    pieces = -(-slots // max(workers, 1))
+    return [piece for chunk in chunks for piece in np.array_split(chunk, min(pieces, len(chunk)))]
+
+
 def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     from distributed import as_completed as dask_as_completed
 
     client, owned = _dask_client(execution.scheduler, workers)
     left: set = set()  # futures not yet collected: a collected chunk is released on its worker at once
     try:
+        chunks = _for_cluster(chunks, sum(client.nthreads().values()), workers, execution)
         payload = cloudpickle.dumps(job)
         token = hashlib.sha256(payload).hexdigest()
         shared = client.scatter(payload, broadcast=True)
@@ -385,7 +395,6 @@ def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: Execut
             client.cancel(list(left))
         for thing in owned:
             thing.close()
-
 
 
 BACKENDS = {"serial": run_serial, "processes": run_processes, "dask": run_dask}
