@@ -124,7 +124,7 @@ def test_worker_killed_mid_sweep_result_equals_serial(cluster, tmp_path):
 
 
 def test_chunks_are_split_for_a_cluster_with_more_threads_than_workers():
-    from periodyn.engine.backends import _for_cluster
+    from periodyn.engine.cluster import _for_cluster
     from periodyn.engine.options import ExecutionOptions
 
     chunks = [np.arange(0, 10), np.arange(10, 13), np.arange(13, 14)]

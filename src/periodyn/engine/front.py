@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..speeds import check_speeds
-from .backends import BACKENDS
+from .backends import BACKENDS, start_server_early
 from .checkpoint import Checkpoint, Collected, fingerprint, model_identity, split
 from .job import Job, ModelSource, reference_frequencies
 from .options import ExecutionOptions, OutputOptions, check_int
@@ -121,6 +121,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         raise InputError("resume=True needs out=<result file>: the checkpoints live in <out>.parts/")
     grid_names, grid_values = _check_grid(model, parameters)
     out = None if out is None else Path(out)
+    if execution.scheduler is None and workers > 1:
+        start_server_early()  # the workers' fork server imports and loads kernels meanwhile
     with sweep_guard(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
         source = ModelSource(model, grid_names, grid_values, p)
         first = (0,) * len(grid_names)
@@ -221,6 +223,8 @@ def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=
     see :func:`auto_workers`."""
     if workers == "auto":
         workers = auto_workers(spec.points(omega))
+    if scheduler is None and workers != 1:
+        start_server_early()  # warms up while the model is built
     plan = spec.plan(omega)
     return sweep(plan.model, plan.omega, spec.harmonics, spec.samples, spec.method if spec.stability else False,
                  parameters=plan.parameters, workers=workers, out=out, resume=resume, progress=progress,
