@@ -100,3 +100,12 @@ def test_local_workers_write_their_chunks_and_the_file_equals_serial(tmp_path):
                      execution=ExecutionOptions(chunk_size=2, eager_workers=True))
     assert streamed.attrs["backend"] == "processes"
     xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))
+
+
+def test_streamed_on_dask_equals_serial(tmp_path):
+    model = pendulum(samples=24)
+    serial = sweep(model, OMEGA, 4, progress=False)
+    out = tmp_path / "dask.nc"
+    sweep(model, OMEGA, 4, workers=2, out=out, progress=False, output=OutputOptions(stream=True),
+          execution=ExecutionOptions("local", 3))
+    xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))
