@@ -4,7 +4,7 @@ as they arrive, the sweep's process keeps only a :class:`Tally` (which points ar
 the counts its attributes report, where each chunk lies), and the result file is written
 block by block from the checkpoint files: every variable is a Dask array whose blocks (about
 :data:`BLOCK_POINTS` points each, a contiguous range of the flat point index) are read from
-the chunks that hold them, all variables of a block at once. Client memory is then about one
+the chunks that hold them, each on its own (so that none waits in memory for another). Client memory is then about one
 block plus a few bytes per point (the ``done`` flags, the chunk list), whatever the number of
 points; the values in the file are the same as those of a sweep assembled in memory. Local
 worker processes write their chunks' checkpoint files themselves and send back only a
@@ -128,9 +128,10 @@ def streamed_columns(job: Job, parts: Path, tally: Tally, block_points: int | No
             corner = tuple(int(starts[d][i]) for d, i in enumerate(prefix))
             sizes = tuple(chunks[d][i] for d, i in enumerate(prefix))
             start = int(np.ravel_multi_index(corner, shape))
-            loaded = read(parts, placed, names, start, start + math.prod(sizes), layout)
-            return {name: da.from_delayed(loaded[name], (math.prod(sizes), *trailing), dtype).reshape(
-                        sizes + trailing) for name, (trailing, dtype, _) in layout.items()}
+            stop = start + math.prod(sizes)  # each variable read on its own: a block is written, then freed
+            return {name: da.from_delayed(read(parts, placed, names, start, stop, {name: spec})[name],
+                                          (stop - start, *spec[0]), spec[1]).reshape(sizes + spec[0])
+                    for name, spec in layout.items()}
         parts_ = [build(prefix + (i,)) for i in range(len(chunks[depth]))]
         if len(parts_) == 1:
             return parts_[0]
