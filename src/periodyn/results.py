@@ -137,13 +137,13 @@ def _digest(f) -> str:
             digest.update(f"{name}|{obj.dtype.str}|{obj.shape}|".encode())
             # read in slabs of whole rows (memory bounded for any file); the bytes are those of the whole array
             rows = obj.shape[0] if obj.ndim else 1
-            step = max(1, 16 * _CHUNK_BYTES // max(1, obj.dtype.itemsize * (obj.size // max(rows, 1))))
+            step = max(1, 4 * _CHUNK_BYTES // max(1, obj.dtype.itemsize * (obj.size // max(rows, 1))))
             for start in range(0, rows, step):
                 values = obj[start:start + step] if obj.ndim else obj[()]
                 if obj.dtype.kind == "O":
                     digest.update(("\0" if start else "").encode() + "\0".join(map(str, np.ravel(values))).encode())
                 else:
-                    digest.update(np.ascontiguousarray(values).tobytes())
+                    digest.update(np.ascontiguousarray(values))  # its bytes, not copied
 
     f.visititems(add)
     return digest.hexdigest()
