@@ -105,7 +105,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     execution: :class:`ExecutionOptions` (Dask scheduler, chunk size).
     output: :class:`OutputOptions` (name, reference frequency, output units, sweep file text).
 
-    Returns the dataset described in :mod:`periodyn.results` (also written to ``out``).
+    Returns the dataset described in :mod:`periodyn.results` (also written to ``out``; read
+    lazily from ``out`` when the results stream, see :class:`OutputOptions`).
     """
     started = time.perf_counter()
     execution = execution if execution is not None else ExecutionOptions()
