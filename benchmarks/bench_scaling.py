@@ -19,6 +19,10 @@ needs idle cores: the load average is printed at start and end.
 
     PYTHONPATH=src python benchmarks/bench_scaling.py                # sizes for 2 cores
     PYTHONPATH=src python benchmarks/bench_scaling.py --scale 10     # 10x the points
+    PYTHONPATH=src python benchmarks/bench_scaling.py --only cardan --scale 20
+
+The sweep file's model is built inside the timed call (as ``periodyn sweep`` does): for the
+Cardan shaft that is seconds of fixed cost, so use --scale where the sweep itself is short.
 """
 
 from __future__ import annotations
@@ -94,6 +98,7 @@ def main() -> None:
     parser.add_argument("--scale", type=float, default=1.0, help="multiply the numbers of points")
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--max-workers", type=int, default=len(os.sched_getaffinity(0)))
+    parser.add_argument("--only", choices=("cardan", "slider_crank_grid"), help="run one of the two sweeps")
     args = parser.parse_args()
     cores = args.max_workers
     print(f"cores {len(os.sched_getaffinity(0))}, workers 1..{cores}, load average at start "
@@ -102,6 +107,8 @@ def main() -> None:
               "slider_crank_grid": ("slider-crank from elements, 3 x 3 grid x N/9 speeds, m = 12, p = 64, "
                                     "stability magnus", (9000, 18000), 9 * 4000 * 10)}
     for kind, (title, sizes, issue_size) in sweeps.items():
+        if args.only and kind != args.only:
+            continue
         print(f"\n{title}")
         print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9}")
         rows = []
