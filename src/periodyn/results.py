@@ -88,8 +88,8 @@ def _versions() -> tuple[tuple[str, str], ...]:
 def _split_complex(ds: xr.Dataset) -> xr.Dataset:
     out = ds.copy()
     for name, var in ds.data_vars.items():
-        if np.iscomplexobj(var.values):
-            parts = np.stack([var.values.real, var.values.imag], axis=-1)
+        if var.dtype.kind == "c":  # var.data: a Dask array (streamed results) stays lazy
+            parts = np.stack([var.data.real, var.data.imag], axis=-1)
             out[name] = xr.Variable(var.dims + (_PART,), parts, {**var.attrs, _COMPLEX_FLAG: 1})
     if any(_COMPLEX_FLAG in out[v].attrs for v in out.data_vars):
         out = out.assign_coords({_PART: (_PART, np.array(["real", "imag"]),
@@ -101,7 +101,7 @@ def _join_complex(ds: xr.Dataset) -> xr.Dataset:
     out = ds.copy()
     for name, var in ds.data_vars.items():
         if var.attrs.get(_COMPLEX_FLAG):
-            values = var.isel({_PART: 0}).values + 1j * var.isel({_PART: 1}).values
+            values = var.isel({_PART: 0}).data + 1j * var.isel({_PART: 1}).data
             attrs = {k: v for k, v in var.attrs.items() if k != _COMPLEX_FLAG}
             out[name] = xr.Variable(tuple(d for d in var.dims if d != _PART), values, attrs)
     if _PART in out.dims and not any(_PART in out[v].dims for v in out.data_vars):
@@ -135,10 +135,16 @@ def _digest(f) -> str:
 
     def add(name, obj):
         if isinstance(obj, h5py.Dataset):
-            values = obj[()]
             digest.update(f"{name}|{obj.dtype.str}|{obj.shape}|".encode())
-            digest.update("\0".join(map(str, np.ravel(values))).encode() if obj.dtype.kind == "O"
-                          else np.ascontiguousarray(values).tobytes())
+            # read in slabs of whole rows (memory bounded for any file); the bytes are those of the whole array
+            rows = obj.shape[0] if obj.ndim else 1
+            step = max(1, 4 * _CHUNK_BYTES // max(1, obj.dtype.itemsize * (obj.size // max(rows, 1))))
+            for start in range(0, rows, step):
+                values = obj[start:start + step] if obj.ndim else obj[()]
+                if obj.dtype.kind == "O":
+                    digest.update(("\0" if start else "").encode() + "\0".join(map(str, np.ravel(values))).encode())
+                else:
+                    digest.update(np.ascontiguousarray(values))  # its bytes, not copied
 
     f.visititems(add)
     return digest.hexdigest()
@@ -173,10 +179,12 @@ def save(ds: xr.Dataset, path, groups: dict[str, xr.Dataset] | None = None) -> P
     return path
 
 
-def load(path) -> xr.Dataset:
+def load(path, lazy: bool = False) -> xr.Dataset:
     """Read a result file written by :func:`save` (complex variables restored); a
-    damaged file (checksum mismatch, broken structure) is an InputError naming it."""
-    return _checked(path, lambda f: _open(path, None))
+    damaged file (checksum mismatch, broken structure) is an InputError naming it.
+    lazy: variables are Dask arrays read from the file when used (for results larger
+    than memory)."""
+    return _checked(path, lambda f: _open(path, None, lazy))
 
 
 def load_groups(path) -> tuple[xr.Dataset, dict[str, xr.Dataset]]:
@@ -195,9 +203,12 @@ def root_attrs(path) -> dict:
         return dict(ds.attrs)
 
 
-def _open(path: Path, group: str | None) -> xr.Dataset:
-    with xr.open_dataset(path, engine=_ENGINE, group=group) as raw:
-        ds = raw.load()
+def _open(path: Path, group: str | None, lazy: bool = False) -> xr.Dataset:
+    if lazy:
+        ds = xr.open_dataset(path, engine=_ENGINE, group=group, chunks={})
+    else:
+        with xr.open_dataset(path, engine=_ENGINE, group=group) as raw:
+            ds = raw.load()
     ds.attrs.pop(_DIGEST, None)
     return _join_complex(ds)
 
@@ -300,7 +311,8 @@ def to_dataset(columns: dict[str, np.ndarray], *, omega: np.ndarray, harmonics: 
                output_units: tuple[str, ...] | None = None, grid: dict[str, np.ndarray] | None = None,
                reference: tuple[str, float] | None = None, attrs: dict | None = None) -> xr.Dataset:
     """The sweep dataset from result columns over flat point indices (C order of
-    ``(*grid, omega)``, as from :func:`empty_columns`). omega (k,) rad/s; outputs: names;
+    ``(*grid, omega)``, as from :func:`empty_columns`; or already of shape (*grid, omega, ...),
+    text as bytes, as from :func:`periodyn.engine.stream.streamed_columns`). omega (k,) rad/s; outputs: names;
     output_units: one unit string per output ('' unknown); grid: {name: values} in order;
     reference: (name, rad/s) adds ``omega_over_<name>``."""
     from .numerics.spectra import harmonic_indices
@@ -329,8 +341,10 @@ def to_dataset(columns: dict[str, np.ndarray], *, omega: np.ndarray, harmonics: 
                                              "reference_frequency_units": "rad/s"})
     variables, units_text = {}, _units_text(units)
     for name, dims, fill, var_attrs in _LAYOUT:
-        values = columns[name].reshape(shape + columns[name].shape[1:])
-        if isinstance(fill, str):
+        values = columns[name]
+        if values.ndim == 1 + len(dims):  # flat over the points
+            values = values.reshape(shape + values.shape[1:])
+        if isinstance(fill, str) and values.dtype.kind not in "US":
             values = values.astype(str)
         filled = {k: (v.format(units=units_text) if isinstance(v, str) else v) for k, v in var_attrs.items()}
         variables[name] = (base + dims, values, filled)

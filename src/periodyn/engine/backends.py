@@ -1,6 +1,7 @@
 """Where a sweep's chunks are solved: in this process ("serial"), on a local pool of worker
 processes ("processes", fork server where available) or on a Dask cluster ("dask").
-Each backend yields finished chunks (result columns, see :meth:`Job.solve`) in any order.
+Each backend yields finished chunks (result columns, see :meth:`Job.solve`) in any order;
+the Dask one lives in :mod:`periodyn.engine.cluster`.
 With local processes, the calling process is one of the ``workers``: it solves chunks
 while the others start, so a short sweep never waits for them.
 
@@ -17,7 +18,6 @@ from __future__ import annotations
 
 import atexit
 import contextlib
-import hashlib
 import multiprocessing
 import os
 import signal
@@ -29,16 +29,16 @@ from typing import Iterator
 import cloudpickle
 import numpy as np
 
-from ..errors import InputError
+from .cluster import run_dask
 from .job import Job
 from .options import ExecutionOptions
-from .threads import WORKER_THREAD_ENV, limit_threads, one_thread, worker_environment
+from .stream import receipt
+from .threads import limit_threads, one_thread, worker_environment
 
-__all__ = ["BACKENDS", "run_serial", "run_processes", "run_dask"]
+__all__ = ["BACKENDS", "run_serial", "run_processes", "start_server_early"]
 
 _WORKER_JOB: Job | None = None
 _POLL = 0.005  # s between checks of the pool-feeding thread
-_DASK_JOBS: dict[str, Job] = {}
 
 
 def _exit_with_parent() -> None:
@@ -62,15 +62,12 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    return _WORKER_JOB.solve(indices)
-
-
-def _solve_on_dask_worker(payload: bytes, token: str, indices: np.ndarray) -> dict[str, np.ndarray]:
-    job = _DASK_JOBS.get(token)
-    if job is None:
-        limit_threads()
-        job = _DASK_JOBS.setdefault(token, cloudpickle.loads(payload))
-    return job.solve(indices)
+    """The chunk's results, or with ``job.writer`` (streamed results) written here and a receipt."""
+    chunk = _WORKER_JOB.solve(indices)
+    if _WORKER_JOB.writer is None:
+        return chunk
+    _WORKER_JOB.writer.write(chunk)
+    return receipt(chunk)
 
 
 
@@ -116,6 +113,7 @@ class _Pool:
         self.created = time.perf_counter()
         self.ready_after: float | None = None  # s from creation until a worker was up
         self.error: BaseException | None = None
+        self.fed = self.orphaned = False  # the feeding thread has ended; closed while the pool was starting
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
@@ -151,6 +149,11 @@ class _Pool:
                     self.submitted.append(future)
         except BaseException as exc:  # re-raised in the sweep's thread
             self.error = exc
+        finally:
+            with self.lock:
+                self.fed = True
+            if self.orphaned:
+                self._stop(wait=False)
 
     def take(self) -> np.ndarray | None:
         """The next chunk for this process, or None when the workers have all the rest."""
@@ -172,7 +175,11 @@ class _Pool:
         return done
 
     def remaining(self) -> Iterator:
-        """The futures not yet collected, as they complete (after the last submission)."""
+        """The futures not yet collected, as they complete (after the last submission); none,
+        without waiting for the pool, when this process took every chunk."""
+        with self.lock:
+            if self.front == 0:  # the workers got no chunk and can get none now
+                return
         self.thread.join()
         if self.error is not None:
             raise self.error
@@ -180,17 +187,25 @@ class _Pool:
 
     def close(self, abandoned: bool = False) -> None:
         """Shut the workers down; ``abandoned``: the sweep stopped taking chunks (Ctrl-C,
-        an error), so the chunks they are solving are not waited for."""
+        an error), so the chunks they are solving are not waited for. A pool whose workers
+        are not up yet is not waited for either (its first start may take seconds)."""
         with self.lock:
             self.back = self.front  # nothing more to submit
+            up = self.ready is not None and self.ready.done()
+            if not (up or self.fed):  # still starting (the fork server may be loading): not waited for,
+                self.orphaned = True  # the feeding thread stops the pool once it has it
+                return
         self.thread.join()
+        self._stop(wait=up and not abandoned)
+
+    def _stop(self, wait: bool) -> None:
+        """Shut the pool down; unless ``wait``, its processes are terminated first."""
         if self.pool is None:
             return
-        wait_for_them = self.ready is not None and self.ready.done() and not abandoned
-        if not wait_for_them:  # no chunk went to the workers, or none is wanted: stop them now
+        if not wait:  # no chunk went to the workers, or none is wanted: stop them now
             for process in list((getattr(self.pool, "_processes", None) or {}).values()):
                 process.terminate()
-        self.pool.shutdown(wait=wait_for_them, cancel_futures=True)
+        self.pool.shutdown(wait=wait, cancel_futures=True)
 
 
 #: Seconds that starting local workers costs this process: the wait until the first worker
@@ -202,10 +217,11 @@ _STARTED: list[bool] = []  # a pool was started in this process
 _SERVER_SINCE: list[float] = []  # when this process started the fork server ahead of its first pool
 
 
-def _start_server_early() -> None:
+def start_server_early() -> None:
     """Start the fork server (imports and kernel loading, :func:`_process_context`) before
     the first pool of this process, so that it warms up on another core while this
-    process solves its first chunks; nothing with the "spawn" start method. A server no
+    process builds the model and solves its first chunks; nothing with the "spawn" start
+    method or once started. A server no
     pool used is stopped when this process exits: it holds this process's output pipes
     and would keep a caller reading them waiting until its warm-up ends."""
     context = _process_context()
@@ -277,7 +293,8 @@ def _record_start(pool: "_Pool", closed: float) -> None:
         START_COST["later"] = pool.ready_after + closed
     elif _STARTED:  # closed before a worker was up: its start took at least that long
         START_COST["later"] = max(START_COST["later"], time.perf_counter() - pool.created)
-    _STARTED.append(True)
+    if pool.ready_after is not None:  # a worker came up: the fork server is ready for the next pools
+        _STARTED.append(True)
 
 
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
@@ -290,10 +307,10 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     chunks from the front while it solves chunks from the back, so a short sweep never
     waits for the workers to start (``execution.eager_workers``: start them whatever the
     estimate). The fork server of the first pool starts at once where the chunks are
-    estimated to take longer than its start (:func:`_start_server_early`)."""
+    estimated to take longer than its start (:func:`start_server_early`)."""
     costs = [float(job.point_costs(c).sum()) for c in chunks]  # estimated seconds per chunk
     if len(chunks) > 2 and sum(costs) >= START_COST["first"]:
-        _start_server_early()
+        start_server_early()
     with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
         yield job.solve(chunks[-1])
         seconds = 0.0
@@ -307,7 +324,8 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
     if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
         yield from run_serial(job, chunks[:-2], workers, execution)
         return
-    _ensure_server()  # here, not in the pool's thread, which cannot set signals
+    start_server_early()  # here, not in the pool's thread, which cannot set signals
+    _ensure_server()
     pool = _Pool(job, chunks[:-2], workers - 1)
     done = False
     try:
@@ -327,54 +345,6 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
         pool.close(abandoned=not done)
         if done:
             _record_start(pool, time.perf_counter() - closing)
-
-
-def _dask_client(scheduler, workers: int):
-    """(client, things to close): an existing Client, 'local' (a LocalCluster with
-    ``workers`` one-thread processes) or a scheduler address."""
-    import dask
-    from distributed import Client, LocalCluster
-
-    if isinstance(scheduler, Client):
-        return scheduler, []
-    if scheduler == "local":
-        # the nanny writes its pre-spawn environment into this process's os.environ for good:
-        # restore it, or Numba here would later re-read NUMBA_NUM_THREADS and refuse a change
-        saved = dict(os.environ)
-        try:
-            with dask.config.set({"distributed.nanny.pre-spawn-environ": WORKER_THREAD_ENV}):
-                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None)
-        finally:
-            os.environ.clear()
-            os.environ.update(saved)
-        client = Client(cluster)
-        return client, [client, cluster]
-    try:
-        client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r} ({exc}); check the address "
-                         "(tcp://host:8786) and that the scheduler is running") from None
-    return client, [client]
-
-
-def run_dask(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
-    from distributed import as_completed as dask_as_completed
-
-    client, owned = _dask_client(execution.scheduler, workers)
-    futures = []
-    try:
-        payload = cloudpickle.dumps(job)
-        token = hashlib.sha256(payload).hexdigest()
-        shared = client.scatter(payload, broadcast=True)
-        futures = [client.submit(_solve_on_dask_worker, shared, token, chunk, pure=False) for chunk in chunks]
-        for future in dask_as_completed(futures):
-            yield future.result()
-    finally:
-        if futures:
-            client.cancel(futures)
-        for thing in owned:
-            thing.close()
 
 
 

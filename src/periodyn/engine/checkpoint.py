@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import InputError
-from ..results import save
+from ..results import STATUS_SOLVED, save
 from ..system import OmegaSplitModel
 from .job import Job
 
@@ -107,13 +107,18 @@ class Checkpoint:
                 return f"holds points at other values of {name} than this sweep's"
         return ""
 
+    @staticmethod
+    def file_name(chunk: dict[str, np.ndarray]) -> str:
+        """Name of the checkpoint file of ``chunk`` in the parts folder."""
+        return f"chunk-{int(chunk['index'][0]):010d}-{len(chunk['index'])}.npz"
+
     def write(self, chunk: dict[str, np.ndarray]) -> None:
         """Store one finished chunk with the sweep's fingerprint and its points' coordinates
         (the folder and its manifest are made with the first). An OS error (no space, no
         permission) is an InputError naming the folder and the fix."""
         stamp = {"_fingerprint": np.array(self.fingerprint),
                  **{f"_at_{k}": v for k, v in self.coordinates(chunk["index"]).items()}}
-        name = f"chunk-{int(chunk['index'][0]):010d}-{len(chunk['index'])}.npz"
+        name = self.file_name(chunk)
         try:
             if not self.manifest.exists():
                 self.parts.mkdir(parents=True, exist_ok=True)
@@ -148,6 +153,11 @@ class Collected:
             if key != "index":
                 self.arrays[key][idx] = values
         self.done[idx] = True
+
+    def counts(self) -> tuple[int, dict[str, int]]:
+        """(failed points, {stability method: points})."""
+        names, counts = np.unique(np.asarray(self.arrays["stability_method"], dtype=str), return_counts=True)
+        return int((self.arrays["status"] != STATUS_SOLVED).sum()), dict(zip(names.tolist(), counts.tolist()))
 
 
 

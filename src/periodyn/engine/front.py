@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..speeds import check_speeds
-from .backends import BACKENDS
+from .backends import BACKENDS, start_server_early
 from .checkpoint import Checkpoint, Collected, fingerprint, model_identity, split
 from .job import Job, ModelSource, reference_frequencies
 from .options import ExecutionOptions, OutputOptions, check_int
@@ -38,13 +38,15 @@ from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
 from .session import check_interrupt, sweep_guard
-from ..results import STATUS_SOLVED, load, options_attrs, package_versions, to_dataset
+from .stream import STREAM_POINTS, Tally, streamed_columns, write_streamed
+from ..results import load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
 
 __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "available_cores", "auto_workers",
            "reference_frequencies", "WORKER_THREAD_ENV", "AUTO_PARALLEL_POINTS"]
 
 _MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
+_MAX_CHUNKS = 2048  # larger sweeps take larger chunks: per-chunk costs (files, messages) stay bounded
 _CHUNKS_PER_WORKER = 8
 _BALANCED_SECONDS = 1.0  # estimated seconds of a sweep from which its chunks are of equal cost, not count
 
@@ -67,12 +69,12 @@ def _check_grid(model, parameters) -> tuple[tuple[str, ...], tuple[np.ndarray, .
     return tuple(names), tuple(values)
 
 
-def _finished(out: Path, key: str, resume: bool) -> xr.Dataset | None:
-    """The finished result at ``out`` when resuming a sweep with the same fingerprint;
-    refuses (InputError) one made with other settings rather than overwrite it."""
+def _finished(out: Path, key: str, resume: bool, lazy: bool) -> xr.Dataset | None:
+    """The finished result at ``out`` (opened lazily: ``lazy``) when resuming a sweep with the
+    same fingerprint; refuses (InputError) one made with other settings rather than overwrite it."""
     if not (resume and out.is_file() and not out.with_name(out.name + ".parts").exists()):
         return None
-    finished = load(out)
+    finished = load(out, lazy=lazy)
     if finished.attrs.get("fingerprint") != key:
         raise InputError(f"{out} is a finished result made with other settings (model, speeds, harmonics, "
                          "samples, stability or method), and resuming would overwrite it; rerun with "
@@ -103,7 +105,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     execution: :class:`ExecutionOptions` (Dask scheduler, chunk size).
     output: :class:`OutputOptions` (name, reference frequency, output units, sweep file text).
 
-    Returns the dataset described in :mod:`periodyn.results` (also written to ``out``).
+    Returns the dataset described in :mod:`periodyn.results` (also written to ``out``; read
+    lazily from ``out`` when the results stream, see :class:`OutputOptions`).
     """
     started = time.perf_counter()
     execution = execution if execution is not None else ExecutionOptions()
@@ -119,6 +122,8 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         raise InputError("resume=True needs out=<result file>: the checkpoints live in <out>.parts/")
     grid_names, grid_values = _check_grid(model, parameters)
     out = None if out is None else Path(out)
+    if execution.scheduler is None and workers > 1:
+        start_server_early()  # the workers' fork server imports and loads kernels meanwhile
     with sweep_guard(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
         source = ModelSource(model, grid_names, grid_values, p)
         first = (0,) * len(grid_names)
@@ -137,11 +142,15 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         backend = "dask" if execution.scheduler is not None else "processes" if workers > 1 else "serial"
 
         checkpoint = None
-        collected = Collected(job.empty(total))
-        collected.arrays["index"][:] = np.arange(total)
+        streamed = out is not None and (output.stream if output.stream is not None else total >= STREAM_POINTS)
+        if streamed:  # no result values kept here: they go to the checkpoints, the file is written from them
+            collected = Tally(total, Checkpoint.file_name)
+        else:
+            collected = Collected(job.empty(total))
+            collected.arrays["index"][:] = np.arange(total)
         if out is not None:
             key = fingerprint(job, options, output.sweep_file_text or model_identity(model))
-            finished = _finished(out, key, resume)
+            finished = _finished(out, key, resume, streamed)
             if finished is not None:
                 return finished
             checkpoint = Checkpoint(out, key, resume, job.coordinates)
@@ -150,53 +159,60 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         pending = np.flatnonzero(~collected.done)
         # several chunks per worker balance the load: of equal count, or of about equal
         # estimated cost in a sweep long enough to gain from it (at low speeds a point may
-        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points, an
+        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points (more
+        # beyond _MAX_CHUNKS chunks), an
         # explicit chunk_size is taken as given
         if backend != "serial":
             job.speed_cost = job.speed_costs()
+        largest = max(_MAX_CHUNK, math.ceil(total / _MAX_CHUNKS))
         if execution.chunk_size or backend == "serial":
-            chunks = split(pending, execution.chunk_size or _MAX_CHUNK)
+            chunks = split(pending, execution.chunk_size or largest)
         else:
             costs = job.point_costs(pending)
             per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
-            size = max(1, min(_MAX_CHUNK, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
+            size = max(1, min(largest, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
             chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
 
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
+        if streamed and backend == "processes":
+            job.writer = checkpoint  # the workers write their chunks (receipts come back)
         with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
             for chunk in BACKENDS[backend](job, chunks, workers, execution):
                 collected.add(chunk)
-                if checkpoint is not None:
+                if checkpoint is not None and "written" not in chunk:
                     checkpoint.write(chunk)
                 bar.update(len(chunk["index"]))
                 check_interrupt()
 
+        failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
                  **options_attrs(options), "backend": backend, "workers": workers if backend != "serial" else 1,
-                 "points": total, "points_computed": int(len(pending)),
-                 "failed_points": int((collected.arrays["status"] != STATUS_SOLVED).sum()),
-                 "stability_methods": _method_counts(collected.arrays["stability_method"], method, stability),
+                 "points": total, "points_computed": int(len(pending)), "failed_points": failed,
+                 "stability_methods": _method_counts(methods, method, stability),
                  "elapsed_s": time.perf_counter() - started,
                  "package_versions": json.dumps(package_versions(), sort_keys=True),
                  "sweep_file_text": output.sweep_file_text or ""}
         if checkpoint is not None:
             attrs["fingerprint"] = checkpoint.fingerprint
-        ds = to_dataset(collected.arrays, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
+        columns = streamed_columns(job, checkpoint.parts, collected) if streamed else collected.arrays
+        ds = to_dataset(columns, omega=w, harmonics=m, outputs=probe.output_names, output_units=units,
                         grid=dict(zip(grid_names, grid_values)), reference=reference, attrs=attrs)
+        if streamed:
+            write_streamed(ds, checkpoint.finish)
+            return load(out, lazy=True)
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
 
 
-def _method_counts(methods: np.ndarray, method: str, stability: bool) -> str:
-    """Dataset attribute: how many points each stability method served, and the rule of a
-    method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
+def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:
+    """Dataset attribute: how many points each stability method served ({method: points}),
+    and the rule of a method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
     if not stability:
         return "none (stability off)"
-    names, counts = np.unique(np.asarray(methods, dtype=str), return_counts=True)
-    text = ", ".join(f"{name or 'failed'} {count}" for name, count in zip(names, counts))
+    text = ", ".join(f"{name or 'failed'} {methods[name]}" for name in sorted(methods))
     rule = method_named(method).rule
     return f"{text}; {rule}" if rule else text
 
@@ -208,6 +224,8 @@ def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=
     see :func:`auto_workers`."""
     if workers == "auto":
         workers = auto_workers(spec.points(omega))
+    if scheduler is None and workers != 1:
+        start_server_early()  # warms up while the model is built
     plan = spec.plan(omega)
     return sweep(plan.model, plan.omega, spec.harmonics, spec.samples, spec.method if spec.stability else False,
                  parameters=plan.parameters, workers=workers, out=out, resume=resume, progress=progress,

@@ -63,12 +63,17 @@ class OutputOptions:
         (default: the model's ``metadata["output_units"]``, else not given).
     sweep_file_text: text of the sweep file the sweep came from (kept in the attributes;
         identifies the sweep for ``resume``).
+    stream: with ``out``, keep no result values in this process: chunks go to their
+        checkpoint files, the result file is written from them block by block and the
+        sweep returns it opened lazily (:mod:`periodyn.engine.stream`); None: from
+        ``STREAM_POINTS`` points on.
     """
 
     name: str | None = None
     reference: tuple[str, float] | None = None
     output_units: Any = None
     sweep_file_text: str | None = None
+    stream: bool | None = None
 
     def __post_init__(self):
         if self.name is not None and not isinstance(self.name, str):
@@ -89,6 +94,8 @@ class OutputOptions:
                                  f"{{output: unit}}, got {units!r}")
         if self.sweep_file_text is not None and not isinstance(self.sweep_file_text, str):
             raise InputError("OutputOptions.sweep_file_text must be the text of a sweep file")
+        if self.stream is not None and not isinstance(self.stream, bool):
+            raise InputError(f"OutputOptions.stream must be True, False or None (automatic), got {self.stream!r}")
 
     def units_for(self, outputs: tuple[str, ...], model) -> tuple[str, ...]:
         """One unit string per output ('' where unknown): these options, else the model's

@@ -1,0 +1,134 @@
+"""A Dask cluster started with Dask's own commands (``dask scheduler``, ``dask worker``) as
+separate processes on localhost: ``periodyn sweep FILE --scheduler tcp://...`` survives a
+worker killed (SIGKILL) mid-sweep, its chunks being retried on the other worker, and
+writes a result file whose values are bit-identical to the serial sweep's."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from periodyn.engine.front import sweep_file
+from periodyn.engine.threads import WORKER_THREAD_ENV
+from periodyn.results import load
+from periodyn.studies.spec import load_sweep_file
+from tests.integration.datasets import without_attrs
+
+pytest.importorskip("distributed")
+
+ROOT = Path(__file__).resolve().parents[2]
+SPEEDS = 2000
+CHUNK = 20
+SWEEP = f"""
+description = "sweep on a local Dask cluster, one of whose workers is killed by the test"
+[model]
+example = "pendulum"
+[sweep]
+omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
+harmonics = 10
+samples = 48
+stability = "dense"
+"""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def environment() -> dict[str, str]:
+    """The workers import periodyn from this checkout and run one thread per library."""
+    env = dict(os.environ, **WORKER_THREAD_ENV)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), str(ROOT), env.get("PYTHONPATH", "")])
+    return env
+
+
+def wait_for(condition, what: str, seconds: float = 120.0, processes=()) -> None:
+    deadline = time.monotonic() + seconds
+    while not condition():
+        for proc in processes:
+            assert proc.poll() is None, f"{proc.args} ended early: {proc.stderr.read().decode()[-2000:]}"
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.02)
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    """(address, [worker processes]) of a scheduler and two one-thread workers without nannies
+    (a nanny would restart a killed worker)."""
+    port = free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    dask = [sys.executable, "-m", "dask"]
+    started = [subprocess.Popen(dask + ["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                                env=environment(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)]
+    try:
+        for name in ("a", "b"):
+            started.append(subprocess.Popen(
+                dask + ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard", "--name", name,
+                        "--local-directory", str(tmp_path / f"worker-{name}")],
+                env=environment(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE))
+        from distributed import Client
+
+        with Client(address, timeout="60s") as client:
+            client.wait_for_workers(2, timeout=120)
+        yield address, started[1:]
+    finally:
+        for proc in reversed(started):
+            if proc.poll() is None:
+                proc.terminate()
+        for proc in reversed(started):
+            try:
+                proc.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+
+
+def test_worker_killed_mid_sweep_result_equals_serial(cluster, tmp_path):
+    address, workers = cluster
+    sweep_path = tmp_path / "cluster.toml"
+    sweep_path.write_text(SWEEP)
+    out = tmp_path / "cluster.nc"
+    parts = tmp_path / "cluster.nc.parts"
+    run = subprocess.Popen([sys.executable, "-m", "periodyn.cli", "sweep", str(sweep_path), "--out", str(out),
+                            "--scheduler", address, "--chunk-size", str(CHUNK), "--quiet"],
+                           env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        wait_for(lambda: len(list(parts.glob("chunk-*.npz"))) >= 4, "the first checkpointed chunks",
+                 processes=[run, *workers])
+        workers[0].send_signal(signal.SIGKILL)
+        workers[0].wait()
+        done_at_kill = len(list(parts.glob("chunk-*.npz")))
+        assert done_at_kill < SPEEDS // CHUNK, "the sweep ended before the worker was killed; make it longer"
+        _, stderr = run.communicate(timeout=300)
+    finally:
+        if run.poll() is None:
+            run.kill()
+            run.wait()
+    assert run.returncode == 0, stderr.decode()[-3000:]
+    assert workers[1].poll() is None
+    clustered = load(out)
+    assert clustered.attrs["backend"] == "dask" and clustered.attrs["points_computed"] == SPEEDS
+    serial = sweep_file(load_sweep_file(sweep_path), progress=False)
+    xr.testing.assert_identical(without_attrs(clustered), without_attrs(serial))
+
+
+def test_chunks_are_split_for_a_cluster_with_more_threads_than_workers():
+    from periodyn.engine.cluster import _for_cluster
+    from periodyn.engine.options import ExecutionOptions
+
+    chunks = [np.arange(0, 10), np.arange(10, 13), np.arange(13, 14)]
+    split = _for_cluster(chunks, slots=8, workers=2, execution=ExecutionOptions())
+    assert len(split) == 4 + 3 + 1 and np.array_equal(np.concatenate(split), np.arange(14))
+    assert _for_cluster(chunks, slots=2, workers=2, execution=ExecutionOptions()) is chunks
+    assert _for_cluster(chunks, slots=8, workers=2, execution=ExecutionOptions(chunk_size=10)) is chunks
