@@ -24,7 +24,7 @@ __all__ = ["kernels_cached", "warm_up", "announce_compiles", "STEPS", "COMPILE_N
 
 #: kernel modules the speed solver calls at every sweep point
 _SOLVER_KERNELS = ("solvers/banded", "solvers/floquet", "solvers/magnus_ladder", "mechanism/outputs")  # kernels/...
-COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 20-200 s; "
+COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 30-260 s of CPU; "
                 "`periodyn warmup` does it ahead)")
 
 
@@ -74,10 +74,12 @@ def _dae() -> None:
     ihb(rod_pendulum(), 3.6, 3)
 
 
-#: (what, CPU seconds a cold compile takes on one core, function), in the order reported
+#: (what, CPU seconds a cold compile takes on one core, function), in the order reported;
+#: measured for the speed solver (pendulum sweep), element models (slider-crank sweep, less
+#: the solver) and DAEs, estimated for the others
 STEPS: tuple[tuple[str, float, Callable[[], None]], ...] = (
     ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 50.0, _speed_solver),
-    ("element models (kinematics, planar beam/truss/hinge linearization)", 230.0, _element_models),
+    ("element models (kinematics, planar beam/truss/hinge linearization)", 210.0, _element_models),
     ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 200.0, _spatial_models),
     ("non-linear element models (implicit shooting)", 150.0, _nonlinear_element_models),
     ("DAE harmonic balance (IHB)", 26.0, _dae),
@@ -121,10 +123,12 @@ def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float
     return time.perf_counter() - start
 
 
-#: CPU seconds (one core, cold cache) of the outermost compiles of each kernel module in a
-#: first run, callees included (``benchmarks/compile_profile.py``)
-FAMILY_SECONDS = {"mechanism.split": 60.0, "mechanism.transfer": 20.0, "solvers.magnus_ladder": 42.0,
-                  "solvers.floquet": 7.0, "solvers.banded": 5.0}
+#: CPU seconds (one core, cold cache, numba 0.68) of the outermost compiles of each kernel
+#: module in a first run, callees included (``benchmarks/compile_profile.py`` on the
+#: slider-crank and pendulum sweep files)
+FAMILY_SECONDS = {"mechanism.split": 62.0, "mechanism.constraint_system": 60.0, "mechanism.assembly": 59.0,
+                  "solvers.magnus_ladder": 42.0, "mechanism.transfer": 33.0, "solvers.floquet": 7.0,
+                  "solvers.banded": 5.0}
 
 
 class _Announcer(event.Listener):
