@@ -138,8 +138,10 @@ def _summary(ds, out: Path, elapsed: float) -> list[str]:
 
 def _cmd_sweep(args) -> int:
     from .engine.session import check_output
+    from .engine.warmup import announce_compiles
     from .studies.spec import load_sweep_file
 
+    announce_compiles(None if args.quiet else sys.stderr)  # building the model may compile kernels too
     spec = load_sweep_file(args.file)
     out = args.out or Path("results") / f"{spec.name}.nc"
     check_output(out)  # before any computing

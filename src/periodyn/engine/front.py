@@ -33,7 +33,7 @@ from .checkpoint import Checkpoint, Collected, fingerprint, model_identity, spli
 from .job import Job, ModelSource, reference_frequencies
 from .options import ExecutionOptions, OutputOptions, check_int
 from .threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, auto_workers
-from .warmup import COMPILE_NOTE, kernels_cached
+from .warmup import COMPILE_NOTE, announce_compiles, kernels_cached
 from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
@@ -109,6 +109,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     lazily from ``out`` when the results stream, see :class:`OutputOptions`).
     """
     started = time.perf_counter()
+    announce_compiles(None if progress is False or callable(progress) else sys.stderr)
     execution = execution if execution is not None else ExecutionOptions()
     output = output if output is not None else OutputOptions()
     if not isinstance(execution, ExecutionOptions) or not isinstance(output, OutputOptions):

@@ -1,20 +1,30 @@
-"""Numba's on-disk cache of the compiled kernels: whether it is filled, and filling it
-(``periodyn warmup``) with one progress line per step, so the first sweep after an
-install does not spend its first 20-200 s compiling in silence."""
+"""Numba's on-disk cache of the compiled kernels: whether it is filled, filling it
+(``periodyn warmup``, the independent kernel families in parallel processes) with one
+progress line per step, and one line per kernel family that a first sweep compiles
+(:func:`announce_compiles`), so no first run compiles in silence.
+
+Parallel processes share the cache safely: Numba writes each cache file to a temporary
+name and renames it into place, so a reader never sees a partial file; two processes
+compiling the same kernel both write it (the same code), and at worst one's index entry
+replaces the other's, which costs a recompile later, never a wrong kernel."""
 
 from __future__ import annotations
 
 import os
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from multiprocessing import get_context
 from pathlib import Path
 from typing import Callable, TextIO
 
-__all__ = ["kernels_cached", "warm_up", "STEPS", "COMPILE_NOTE"]
+from numba.core import event
+
+__all__ = ["kernels_cached", "warm_up", "announce_compiles", "STEPS", "COMPILE_NOTE"]
 
 #: kernel modules the speed solver calls at every sweep point
 _SOLVER_KERNELS = ("solvers/banded", "solvers/floquet", "solvers/magnus_ladder", "mechanism/outputs")  # kernels/...
-COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 20-200 s; "
+COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 30-260 s of CPU; "
                 "`periodyn warmup` does it ahead)")
 
 
@@ -64,24 +74,107 @@ def _dae() -> None:
     ihb(rod_pendulum(), 3.6, 3)
 
 
-#: (what, function) in the order run by :func:`warm_up`
-STEPS: tuple[tuple[str, Callable[[], None]], ...] = (
-    ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", _speed_solver),
-    ("element models (kinematics, planar beam/truss/hinge linearization)", _element_models),
-    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", _spatial_models),
-    ("non-linear element models (implicit shooting)", _nonlinear_element_models),
-    ("DAE harmonic balance (IHB)", _dae),
+#: (what, CPU seconds a cold compile takes on one core, function), in the order reported;
+#: measured for the speed solver (pendulum sweep), element models (slider-crank sweep, less
+#: the solver) and DAEs, estimated for the others
+STEPS: tuple[tuple[str, float, Callable[[], None]], ...] = (
+    ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 50.0, _speed_solver),
+    ("element models (kinematics, planar beam/truss/hinge linearization)", 210.0, _element_models),
+    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 200.0, _spatial_models),
+    ("non-linear element models (implicit shooting)", 150.0, _nonlinear_element_models),
+    ("DAE harmonic balance (IHB)", 26.0, _dae),
 )
 
 
-def warm_up(stream: TextIO | None = None) -> float:
+def _step(i: int) -> float:
+    """Run STEPS[i] (in a worker process); returns its seconds."""
+    began = time.perf_counter()
+    STEPS[i][2]()
+    return time.perf_counter() - began
+
+
+def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float:
     """Compile (or load) every kernel family once, printing one line per step to
-    ``stream`` (stderr by default); returns the seconds taken."""
+    ``stream`` (stderr by default) as it finishes; returns the seconds taken. The steps
+    run in ``processes`` fresh processes (default: one per core, at most one per step),
+    the costliest first; 1 runs them here, in order."""
+    from .threads import available_cores
+
     stream = stream if stream is not None else sys.stderr
     start = time.perf_counter()
-    for i, (what, step) in enumerate(STEPS, 1):
-        began = time.perf_counter()
-        print(f"warmup [{i}/{len(STEPS)}] {what} ...", end="", file=stream, flush=True)
-        step()
-        print(f" {time.perf_counter() - began:.1f} s", file=stream, flush=True)
+    k = len(STEPS)
+    processes = min(k, processes or available_cores())
+    if processes <= 1:
+        for i, (what, _, step) in enumerate(STEPS, 1):
+            began = time.perf_counter()
+            print(f"warmup [{i}/{k}] {what} ...", end="", file=stream, flush=True)
+            step()
+            print(f" {time.perf_counter() - began:.1f} s", file=stream, flush=True)
+        return time.perf_counter() - start
+    total = sum(s[1] for s in STEPS)
+    print(f"warmup: {k} kernel families in {processes} processes (about {total / processes:.0f}-{total:.0f} s "
+          "on an idle machine) ...", file=stream, flush=True)
+    order = sorted(range(k), key=lambda i: -STEPS[i][1])
+    with ProcessPoolExecutor(processes, mp_context=get_context("spawn")) as pool:
+        futures = {pool.submit(_step, i): i for i in order}
+        for future in as_completed(futures):
+            i = futures[future]
+            print(f"warmup [{i + 1}/{k}] {STEPS[i][0]} ... {future.result():.1f} s", file=stream, flush=True)
     return time.perf_counter() - start
+
+
+#: CPU seconds (one core, cold cache, numba 0.68) of the outermost compiles of each kernel
+#: module in a first run, callees included (``benchmarks/compile_profile.py`` on the
+#: slider-crank and pendulum sweep files)
+FAMILY_SECONDS = {"mechanism.split": 62.0, "mechanism.constraint_system": 60.0, "mechanism.assembly": 59.0,
+                  "solvers.magnus_ladder": 42.0, "mechanism.transfer": 33.0, "solvers.floquet": 7.0,
+                  "solvers.banded": 5.0}
+
+
+class _Announcer(event.Listener):
+    """One line on ``stream`` when Numba starts compiling (a cache miss) a periodyn kernel
+    family not compiled before in this process, with its usual cost, and one when a long
+    compile ends; kernels compiled inside another count as its family's."""
+
+    def __init__(self):
+        self.stream = None
+        self.registered = False
+        self.depth = 0
+        self.began = None
+        self.family = ""
+        self.seen = set()
+
+    def on_start(self, ev):
+        self.depth += 1
+        module = ev.data["dispatcher"].py_func.__module__
+        if self.depth > 1 or self.stream is None or not module.startswith("periodyn.kernels."):
+            return
+        self.family = module.removeprefix("periodyn.kernels.")
+        self.began = time.perf_counter()
+        if self.family not in self.seen:
+            self.seen.add(self.family)
+            about = FAMILY_SECONDS.get(self.family)
+            cost = f"about {about:.0f} s" if about else "a few s"
+            print(f"periodyn: compiling kernels {self.family} ({cost} of CPU; once per install, "
+                  "`periodyn warmup` does it ahead) ...", file=self.stream, flush=True)
+
+    def on_end(self, ev):
+        self.depth -= 1
+        if self.depth == 0 and self.began is not None:
+            seconds = time.perf_counter() - self.began
+            self.began = None
+            if seconds > 10.0 and self.stream is not None:
+                print(f"periodyn: compiled {self.family} in {seconds:.0f} s", file=self.stream, flush=True)
+
+
+_ANNOUNCER = _Announcer()
+
+
+def announce_compiles(stream: TextIO | None) -> None:
+    """From now on in this process, say on ``stream`` (None: nothing) which kernel family
+    Numba compiles and about how long it takes, one line per family; loading from the
+    cache says nothing."""
+    if stream is not None and not _ANNOUNCER.registered:
+        event.register("numba:compile", _ANNOUNCER)
+        _ANNOUNCER.registered = True
+    _ANNOUNCER.stream = stream

@@ -7,6 +7,14 @@ share), ``mechanism/`` (constraints, transfer function, assembly, the omega spli
 ``solvers/`` (banded, Floquet, Magnus, harmonic, implicit, ODE flows). Every kernel has a
 plain-NumPy twin in the tests.
 
+Compile cost (a first run after an install compiles every kernel it calls; profile one with
+``benchmarks/compile_profile.py``): Numba links each kernel's callees into its own module and
+has LLVM optimize the whole of it again, so a kernel costs about the size of everything it
+calls, once per signature. Hence loops are serial (no ``parallel=True``: a sweep runs one
+thread per worker process, and a prange kernel compiles its body again as a parallel
+region), a kernel is called with one signature (float64 C-contiguous arrays, int64
+scalars), and no thin jitted wrapper is put around a large kernel.
+
 Adding an element family (``tests/unit/kernels/test_element_families.py`` checks steps 1-5):
 
 1. ``elements/<family>.py``: ``deformation(xe, par, D, Dx, Dxx, Dxxx)`` and, if the

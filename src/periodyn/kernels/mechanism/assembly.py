@@ -1,6 +1,6 @@
 """Assembly of an element model's equations of motion: nodal inertia/elastic arrays summed
 over the element families and the reduced linearized equations (eq. 5, 7, 9, 10 of
-Schwab & Meijaard 2001) per sample, parallel over samples with ``prange``.
+Schwab & Meijaard 2001) per sample.
 
 The constraint equations and element tensors live in :mod:`.constraints`, the transfer
 function and its derivatives in :mod:`.transfer`; ``ModelArrays``, ``allocate_tensors``,
@@ -8,7 +8,7 @@ function and its derivatives in :mod:`.transfer`; ``ModelArrays``, ``allocate_te
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .constraint_system import ModelArrays, allocate_tensors, element_tensors
 from ..elements.elastic import add_elastic
@@ -163,13 +163,13 @@ def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     fd[:] = Fd.T @ r
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True)
 def linearize_samples(arr, X, qdots, qddots, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """For every sample j (prange) and every rate set s: reduced_sample at X[j] with
+    """For every sample j and every rate set s: reduced_sample at X[j] with
     qdots[s], qddots[s] (S, n_q). Outputs Mb, Cb, Kb (S, p, n_d, n_d), fd (S, p, n_d),
     Fd, Fdv, Fda (S, p, n_x, n_d)."""
     p = X.shape[0]
-    for j in prange(p):
+    for j in range(p):
         for s in range(qdots.shape[0]):
             reduced_sample(arr, X[j], qdots[s], qddots[s], Mb[s, j], Cb[s, j], Kb[s, j], fd[s, j],
                            Fd[s, j], Fdv[s, j], Fda[s, j])

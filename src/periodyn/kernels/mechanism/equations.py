@@ -2,7 +2,7 @@
 (Schwab & Meijaard 2001, eq. 4): ``M̄(q) q̈^d + F_dᵀ (M F_qq q̇ q̇ - f) = 0`` solved for the
 dynamic accelerations, with their Jacobians by implicit differentiation.
 
-Per state k (prange): the configuration x = F(q) by Newton from a warm start (a solved
+Per state k: the configuration x = F(q) by Newton from a warm start (a solved
 configuration nearby, updated in place), then :func:`assembly.reduced_sample` at the
 state's rates with q̈^d = 0 gives M̄ and the residual R0 = f^d, so q̈^d = -M̄⁻¹ R0. The
 residual R(q, q̇, q̈) is affine in q̈^d with slope M̄, so at the solution
@@ -11,7 +11,7 @@ reduced_sample evaluated at the actual accelerations (a second pass, only when a
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from . import assembly, constraint_system, transfer
 
@@ -67,7 +67,7 @@ def _acceleration(arr, x, qdot, D, Dx, Dxx, J, Fq, acc):
     acc[:] = np.linalg.solve(Fd.T @ (M @ Fd), -(Fd.T @ r))
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True)
 def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobians, acc, Gq, Gv, info):
     """Dynamic accelerations of the states Q, Qdot (b, n_q) (q = [q^r, q^d], q̈^r = 0).
 
@@ -80,7 +80,7 @@ def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobian
     nq = Q.shape[1]
     nd = acc.shape[1]
     nr = nq - nd
-    for k in prange(b):
+    for k in range(b):
         D, Dx, Dxx, Dxxx, Phi, J = constraint_system.allocate_equations(arr)
         x = np.empty(n)
         it, res = _configuration(arr, x, Q[k], X[k], Qx[k], FQ[k], tol, max_iter, D, Dx, Dxx, Dxxx, Phi, J)

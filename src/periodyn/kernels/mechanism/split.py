@@ -1,7 +1,6 @@
 """The reduced linearized equations of an element model as polynomials in the input speed
 s (Schwab & Meijaard 2001, eq. 5, 7, 9, 10 with constant-speed inputs q^r = rates s t):
-``C = C0 + s C1``, ``K = K0 + s K1 + s^2 K2``, ``f^d = f0 + s f1 + s^2 f2``, per sample,
-parallel over samples with ``prange``.
+``C = C0 + s C1``, ``K = K0 + s K1 + s^2 K2``, ``f^d = f0 + s f1 + s^2 f2``, per sample.
 
 At unit speed, v, a, F_{q^d q} q' and F_{q^d q} q'' + F_{q^d q q} q' q' scale with s, s^2,
 s, s^2 exactly (q'' = 0), so the constraint Jacobian is factored and the transfer
@@ -15,7 +14,7 @@ transposed solves with the sparse LU factors of J: ``nnz(L + U)`` per column, no
 """
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .assembly import add_adjoint_curvature, allocate_element_arrays, element_arrays, nodal_product
 from .lu import lu_solve_transposed, lu_solve_transposed_many
@@ -92,10 +91,10 @@ def split_sample(arr, x, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     fd[:] = P[:, 6 * nd:].T
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True)
 def split_samples(arr, X, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """:func:`split_sample` at every configuration X (p, n_x) (prange). Outputs Mb
+    """:func:`split_sample` at every configuration X (p, n_x). Outputs Mb
     (p, n_d, n_d), Cb (p, 2, n_d, n_d), Kb (p, 3, n_d, n_d), fd (p, 3, n_d), Fd, Fdv, Fda
     (p, n_x, n_d)."""
-    for j in prange(X.shape[0]):
+    for j in range(X.shape[0]):
         split_sample(arr, X[j], qdot1, speed, Mb[j], Cb[j], Kb[j], fd[j], Fd[j], Fdv[j], Fda[j])

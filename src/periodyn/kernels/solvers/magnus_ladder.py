@@ -189,7 +189,7 @@ def plan(config, omegas, d, out_order, out_first, out_cost):
         first = first_rung(config, w, order)
         if both and first >= config[CFG_STIFF]:
             order = 4
-            first = first_rung(config, w, 4)
+            first = first_rung(config, w, np.int64(4))
         out_order[s], out_first[s] = order, first
         out_cost[s] = (rung_cost(config[CFG_SCALE], config[CFG_SPAN], w, first, order, d)
                        + rung_cost(config[CFG_SCALE], config[CFG_SPAN], w, 2 * first, order, d))
@@ -335,14 +335,12 @@ def ladder_climb(rows, n, Pc, Pk, signs, config, cache, omegas, budget):
                 rung[s] = min(rung[s], largest // 2)
                 last[s] = np.nan
         while active.any():
-            steps = 1 << 62
-            for s in range(S):
-                if active[s]:
-                    steps = min(steps, rung[s])
+            steps = np.min(rung[active])  # no literal start value: one compiled signature per callee
             in_cache = steps <= kept
             slot = (0 if order == 6 else LEVELS) + int(np.rint(np.log2(steps)))
             if in_cache and cache[slot].shape[0] == 0:
-                cache[slot] = rung_terms(rows, n, Pc, Pk, steps, points, span, signs.shape[0] > 0, 0, steps, 0.0)[0]
+                cache[slot] = rung_terms(rows, n, Pc, Pk, steps, points, span, signs.shape[0] > 0, np.int64(0), steps,
+                                         0.0)[0]
             terms = cache[slot] if in_cache else np.empty((0, 0, 0, 0))
             A = np.empty(terms.shape[1:])
             for s in range(S):
