@@ -23,7 +23,7 @@ from ..model import Model
 from ..model.driving import AngleFunction
 from ..system import OmegaSplitModel
 
-__all__ = ["element_model", "check_element_form", "MODEL_FORM_KEYS"]
+__all__ = ["element_model", "declared_model", "check_element_form", "MODEL_FORM_KEYS"]
 
 _ELEMENT_KEYS = {
     "beam": (("name", "points", "angles"), ("modes", "EA", "EI", "mass_per_length", "kelvin_voigt")),
@@ -40,6 +40,17 @@ _LOAD_KEYS = ("coordinate", "point", "direction") + _FUNCTION_KEYS[1:]
 def element_model(table: dict, *, name: str = "model", samples: int = 64) -> OmegaSplitModel:
     """OmegaSplitModel of the element model in a validated ``[model]`` table (see the
     module docstring), sampled at ``samples`` crank angles; resamplable."""
+    try:
+        compiled = declared_model(table, name=name).compile()
+        return omega_split(compiled, samples, name=name,
+                           rebuild=functools.partial(element_model, table, name=name))
+    except ConvergenceError as exc:  # e.g. the kinematics has no solution at some crank angle
+        raise InputError(str(exc)) from None
+
+
+def declared_model(table: dict, *, name: str = "model") -> Model:
+    """The :class:`periodyn.model.Model` (not compiled) declared by a validated ``[model]``
+    table; a step that fails names its table entry (InputError)."""
     m = Model(name=name)
     steps = [(f"point '{k}'", m.add_point, (k, v), {}) for k, v in table.get("points", {}).items()]
     steps += [(f"angle '{k}'", m.add_angle, (k, v), {}) for k, v in table.get("angles", {}).items()]
@@ -72,12 +83,7 @@ def element_model(table: dict, *, name: str = "model", samples: int = 64) -> Ome
             add(*args, **kwargs)
         except InputError as exc:
             raise InputError(f"{where}: {exc}") from None
-    try:
-        compiled = m.compile()
-        return omega_split(compiled, samples, name=name,
-                           rebuild=functools.partial(element_model, table, name=name))
-    except ConvergenceError as exc:  # e.g. the kinematics has no solution at some crank angle
-        raise InputError(str(exc)) from None
+    return m
 
 
 def check_element_form(check: Checker, model: dict) -> dict:
