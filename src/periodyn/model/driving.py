@@ -99,7 +99,8 @@ class AngleFunction:
 
     @classmethod
     def from_callable(cls, function: Callable) -> "AngleFunction":
-        """From ``function(theta) -> (g, g', g'')``; the rate is ``(g(2 pi) - g(0)) / 2 pi``.
+        """From ``function(theta) -> (g, g', g'')``; the rate is ``(g(2 pi) - g(0)) / 2 pi``
+        (zero when that is round-off).
         Refuses a function whose derivatives are not periodic or do not match g."""
         if not callable(function):
             raise InputError(f"expected a callable theta -> (g, g', g''), got {type(function).__name__}")
@@ -119,7 +120,9 @@ class AngleFunction:
             if err > DERIVATIVE_RTOL * max(scale, 1e-300) + 1e-12:
                 raise InputError(f"the callable's {name} differs from central differences of its {of} by {err:.3g}: "
                                  "return (g, dg/dtheta, d2g/dtheta2) at the angles given")
-        return cls(rate=float((ends[0][1] - ends[0][0]) / (2.0 * np.pi)), function=function)
+        growth = float(ends[0][1] - ends[0][0])  # a periodic function's round-off is no rate
+        periodic = abs(growth) <= PERIODIC_RTOL * max(1.0, float(np.abs(ends[0]).max()))
+        return cls(rate=0.0 if periodic else growth / (2.0 * np.pi), function=function)
 
 
 def angle_function(value, what: str) -> AngleFunction:
