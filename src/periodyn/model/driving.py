@@ -107,8 +107,8 @@ class AngleFunction:
         ends = _call(function, np.array([0.0, 2.0 * np.pi]))
         for name, d in (("g'", ends[1]), ("g''", ends[2])):
             if abs(d[1] - d[0]) > PERIODIC_RTOL * max(1.0, np.abs(d).max()):
-                raise InputError(f"{name}(2 pi) = {d[1]!r} differs from {name}(0) = {d[0]!r}: a function of the driving "
-                                 "angle must have periodic derivatives (g = rate * theta + a 2 pi-periodic part)")
+                raise InputError(f"{name}(2 pi) = {d[1]!r} differs from {name}(0) = {d[0]!r}: a function of the "
+                                 "driving angle must have periodic derivatives (g = rate * theta + a 2 pi-periodic part)")
         theta = 2.0 * np.pi * (np.arange(CHECK_ANGLES) + 0.37) / CHECK_ANGLES
         h = 1e-4
         g0, g1, g2 = _call(function, theta)

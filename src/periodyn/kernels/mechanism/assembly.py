@@ -133,7 +133,8 @@ def nodal_product(arr, diag, Ee, X, out):
 @njit(cache=True)
 def reduced_sample(arr, x, qdot, qddot, load, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     """Reduced linearized equations at one configuration x and input rates
-    (qdot, qddot) (n_q,), with nodal loads ``load`` (n_x,) besides the constant ones: overwrites Mb, Cb, Kb (n_d, n_d) of eq. (5), (10) and
+    (qdot, qddot) (n_q,), with nodal loads ``load`` (n_x,) besides the constant ones:
+    overwrites Mb, Cb, Kb (n_d, n_d) of eq. (5), (10) and
     fd (n_d,) = F_d^T (M a - f), the additional forces of eq. (7) (the residual of
     the reduced equations (4) when qdot, qddot include dynamic rates). Also writes the
     transfer-function derivatives Fd, Fdv, Fda (n_x, n_d) used by eq. (11). The nodal
