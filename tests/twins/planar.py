@@ -197,5 +197,5 @@ def motion_twin(model, x, qdot, qddot):
 def kernel_sample(model, x, qdot, qddot):
     n, nd = model.n_coordinates, model.n_dynamic
     out = [np.empty((nd, nd)), np.empty((nd, nd)), np.empty((nd, nd)), np.empty(nd)]
-    reduced_sample(model.arrays, x, qdot, qddot, *out, np.empty((n, nd)), np.empty((n, nd)), np.empty((n, nd)))
+    reduced_sample(model.arrays, x, qdot, qddot, np.zeros(n), *out, np.empty((n, nd)), np.empty((n, nd)), np.empty((n, nd)))
     return out

@@ -156,7 +156,7 @@ def test_torque_free_rigid_body_follows_euler_equations():
         x_start[:] = [x, qd]
         Mb, Cb, Kb = (np.empty((nd, nd)) for _ in range(3))
         fd = np.empty(nd)
-        assembly.reduced_sample(model.arrays, x, qdot.copy(), np.zeros(nd), Mb, Cb, Kb, fd,
+        assembly.reduced_sample(model.arrays, x, qdot.copy(), np.zeros(nd), np.zeros(n), Mb, Cb, Kb, fd,
                                 *(np.empty((n, nd)) for _ in range(3)))
         return np.concatenate([qdot, np.linalg.solve(Mb, -fd)])
 

@@ -100,27 +100,32 @@ def test_split_output_maps_give_the_linearized_midpoint_deflection():
         assert y == pytest.approx(split.output_maps[j, 0] @ qd, rel=1e-5)
 
 
-def test_split_kernel_equals_reduced_sample_at_each_speed():
+@pytest.mark.parametrize("driven", [False, True])
+def test_split_kernel_equals_reduced_sample_at_each_speed(driven):
     """kernels.split (transfer function differentiated once, element arrays split into powers,
     one product for all powers) against reduced_sample evaluated at each speed, at nominal
-    and deformed configurations of a slider-crank with 6 rod elements."""
+    and deformed configurations of a slider-crank with 6 rod elements; driven: with an
+    input acceleration s^2 g'' besides the rate s g' (a crank speed that varies with the
+    angle) and nodal loads that enter only the speed-independent power."""
     from periodyn.kernels.mechanism.assembly import reduced_sample
     from periodyn.kernels.mechanism.split import split_sample
     from periodyn.model.kinematics import configuration
 
     model = slider_crank_model(kelvin_voigt=4.8e-5, rod_elements=6)
     arr, n, nd = model.arrays, model.n_coordinates, model.n_dynamic
-    qdot1 = np.concatenate([model.input_rates, np.zeros(nd)])
     rng = np.random.default_rng(7)
+    qdot1 = np.concatenate([model.input_rates * (1.3 if driven else 1.0), np.zeros(nd)])
+    qddot1 = np.concatenate([[0.4 if driven else 0.0], np.zeros(nd)])
+    load = rng.standard_normal(n) if driven else np.zeros(n)
     for theta, qd in ((0.4, np.zeros(nd)), (2.1, 1e-3 * rng.standard_normal(nd))):
         x = configuration(model, theta, qd)
         M, C, K, f = np.empty((nd, nd)), np.empty((2, nd, nd)), np.empty((3, nd, nd)), np.empty((3, nd))
         F1 = [np.empty((n, nd)) for _ in range(3)]
-        split_sample(arr, x, qdot1, 200.0, M, C, K, f, *F1)
+        split_sample(arr, x, qdot1, qddot1, load, 200.0, M, C, K, f, *F1)
         for s in (-90.0, 37.0, 250.0):
             Mb, Cb, Kb, fd = np.empty((nd, nd)), np.empty((nd, nd)), np.empty((nd, nd)), np.empty(nd)
             F = [np.empty((n, nd)) for _ in range(3)]
-            reduced_sample(arr, x, s * qdot1, np.zeros(nd + model.n_inputs), Mb, Cb, Kb, fd, *F)
+            reduced_sample(arr, x, s * qdot1, s**2 * qddot1, load, Mb, Cb, Kb, fd, *F)
             for got, want in ((M, Mb), (C[0] + s * C[1], Cb), (K[0] + s * K[1] + s**2 * K[2], Kb),
                               (f[0] + s * f[1] + s**2 * f[2], fd), (F1[0], F[0]), (s * F1[1], F[1]),
                               (s**2 * F1[2], F[2])):

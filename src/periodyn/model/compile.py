@@ -28,7 +28,9 @@ class CompiledModel:
     x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
     q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
     :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
-    (eq. 11-12).
+    (eq. 11-12); input_motions: per input an AngleFunction g (q^r = g(theta)) or None
+    (``rate * theta``), empty when all are None; angle_loads: (nodal coordinate index,
+    weight, AngleFunction) of the loads that vary with theta.
     """
 
     name: str
@@ -43,6 +45,8 @@ class CompiledModel:
     independent: tuple[tuple[IndependentElement, np.ndarray], ...]
     constraint_labels: tuple[str, ...]
     dimension: int = 2
+    input_motions: tuple = ()
+    angle_loads: tuple = ()
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -60,9 +64,37 @@ class CompiledModel:
     def n_dynamic(self) -> int:
         return len(self.dynamic_names)
 
+    @property
+    def uniform(self) -> bool:
+        """True when every input is ``rate * theta`` and no load varies with theta (the
+        constant-speed model of eq. 2)."""
+        return not self.input_motions and not self.angle_loads
+
     def inputs(self, theta: float) -> np.ndarray:
         """q^r at crank angle theta (rad), (n_r,)."""
-        return self.input_rates * float(theta)
+        if not self.input_motions:
+            return self.input_rates * float(theta)
+        return self.drive(np.array([float(theta)]))[0][0]
+
+    def drive(self, theta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q^r and its first and second derivatives in theta at angles theta (k,) (rad),
+        each (k, n_r); the time rates are omega and omega^2 times the derivatives."""
+        theta = np.asarray(theta, dtype=float).reshape(-1)
+        q = np.outer(theta, self.input_rates)
+        dq = np.repeat(self.input_rates[None], theta.size, axis=0)
+        ddq = np.zeros_like(q)
+        for i, g in enumerate(self.input_motions):
+            if g is not None:
+                q[:, i], dq[:, i], ddq[:, i] = g(theta)
+        return q, dq, ddq
+
+    def applied_loads(self, theta) -> np.ndarray:
+        """Nodal loads that vary with theta at angles theta (k,) (rad): (k, n_x) (N, N m)."""
+        theta = np.asarray(theta, dtype=float).reshape(-1)
+        f = np.zeros((theta.size, self.n_coordinates))
+        for i, weight, g in self.angle_loads:
+            f[:, i] += weight * g(theta)[0]
+        return f
 
 
 def compile_model(model) -> CompiledModel:
@@ -100,7 +132,9 @@ def compile_model(model) -> CompiledModel:
     independent = tuple((el, np.array([index[c] for c in el.coordinates], dtype=np.int64)) for el in model.independent)
     compiled = CompiledModel(model.name, arrays, tuple(coords), x_ref, tuple(mode_names), tuple(input_names),
                              np.array([model.prescribed[c] for c in input_names]), tuple(dynamic_names),
-                             outputs, independent, tuple(labels), model.dimension)
+                             outputs, independent, tuple(labels), model.dimension,
+                             tuple(model.motions.get(c) for c in input_names) if model.motions else (),
+                             tuple((index[c], w, f) for c, w, f in model.angle_loads))
     check_constraints(compiled)
     check_inertia(compiled)
     return compiled

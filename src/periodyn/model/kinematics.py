@@ -63,7 +63,7 @@ def check_inertia(model) -> None:
         return
     zeros = np.zeros(model.n_inputs + nd)
     Mb, Cb, Kb = (np.empty((nd, nd)) for _ in range(3))
-    assembly.reduced_sample(model.arrays, model.x_reference, zeros, zeros, Mb, Cb, Kb, np.empty(nd),
+    assembly.reduced_sample(model.arrays, model.x_reference, zeros, zeros, np.zeros(n), Mb, Cb, Kb, np.empty(nd),
                             *(np.empty((n, nd)) for _ in range(3)))
     w, V = np.linalg.eigh(0.5 * (Mb + Mb.T))
     if w[0] > 1e-12 * max(abs(w[-1]), 1e-300):
@@ -105,7 +105,7 @@ def nominal_configurations(model, samples: int) -> np.ndarray:
     theta_j = 2 pi j / p; (p, n_x)."""
     theta = sample_angles(samples)
     q = np.zeros((samples, model.n_inputs + model.n_dynamic))
-    q[:, :model.n_inputs] = np.outer(theta, model.input_rates)
+    q[:, :model.n_inputs] = model.drive(theta)[0]
     return _track(model, q, lambda j: f"crank angle theta = {theta[j]:.6g} rad (sample {j})")
 
 

@@ -1,13 +1,16 @@
 """Linearized equations about the nominal rigid motion (Schwab & Meijaard 2001,
 section 2.2-2.3): additional forces f^d (eq. 7), reduced M, C, K (eq. 5, 9, 10) at
 every sample angle, independently modelled elements (eq. 11-12), output maps, and the
-split into omega-polynomials for constant-speed inputs q^r = rates * omega t.
+split into omega-polynomials for inputs that are functions of the driving angle,
+q^r = g(theta) with theta = omega t (``rates * theta`` at constant speed).
 
 Sign convention of the result (as :class:`periodyn.RheoLinear`):
 ``M q'' + C q' + K q = f`` with ``f = -f^d + f_a`` (eq. 8, 13).
 
-With constant-speed inputs, velocities scale with omega and accelerations with omega^2,
-so C = C0 + w C1, K = K0 + w K1 + w^2 K2, f = f0 + w f1 + w^2 f2 exactly; the split
+With such inputs, q^r' = omega g'(theta) and q^r'' = omega^2 g''(theta): velocities
+scale with omega and accelerations with omega^2 (eq. 7's F_{,q^r} q^r'' term included),
+and loads that are functions of theta carry no power of omega, so C = C0 + w C1,
+K = K0 + w K1 + w^2 K2, f = f0 + w f1 + w^2 f2 exactly; the split
 is computed once per sample (:mod:`.kernels.split`), and checked against direct
 linearization in the tests.
 """
@@ -20,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..kernels.mechanism import assembly, constraint_system, split
+from ..numerics.spectra import sample_angles
 from .kinematics import configuration, motion, nominal_configurations
 from ..system import OmegaSplitModel, RheoLinear
 
@@ -48,18 +52,29 @@ class LinearizedSamples:
         return -self.additional_force + self.applied_force
 
 
+def _unit_rates(model, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Input rates and accelerations at unit speed, (k, n_q) (zero dynamic part), and the
+    loads that vary with theta (k, n_x), at angles theta (k,)."""
+    nr = model.n_inputs
+    qdot1, qddot1 = np.zeros((2, theta.size, nr + model.n_dynamic))
+    _, qdot1[:, :nr], qddot1[:, :nr] = model.drive(theta)
+    return qdot1, qddot1, model.applied_loads(theta)
+
+
 def _run(model, X: np.ndarray, speeds) -> tuple[np.ndarray, ...]:
-    """reduced_sample at every configuration for every input speed s (rad/s)."""
+    """reduced_sample at every configuration X (p, n_x), at theta_j = 2 pi j / p, for
+    every input speed s (rad/s)."""
     arr = model.arrays
     p, n = X.shape
-    nd, nq = model.n_dynamic, model.n_inputs + model.n_dynamic
+    nd = model.n_dynamic
     S = len(speeds)
-    qdots = np.zeros((S, nq))
-    qdots[:, :model.n_inputs] = np.outer(speeds, model.input_rates)
-    qddots = np.zeros((S, nq))
+    qdot1, qddot1, loads = _unit_rates(model, sample_angles(p))
+    speeds = np.asarray(speeds, dtype=float)
+    qdots = speeds[:, None, None] * qdot1[None]
+    qddots = speeds[:, None, None]**2 * qddot1[None]
     out = (np.empty((S, p, nd, nd)), np.empty((S, p, nd, nd)), np.empty((S, p, nd, nd)), np.empty((S, p, nd)),
            np.empty((S, p, n, nd)), np.empty((S, p, n, nd)), np.empty((S, p, n, nd)))
-    assembly.linearize_samples(arr, X, qdots, qddots, *out)
+    assembly.linearize_samples(arr, X, qdots, qddots, loads, *out)
     return out
 
 
@@ -131,18 +146,17 @@ def rheo_linear(model, omega: float, samples: int) -> RheoLinear:
                                    output_names=model.output_names if G.shape[1] else None)
 
 
-def _split(model, X: np.ndarray, speed: float) -> tuple[np.ndarray, ...]:
-    """:func:`kernels.split.split_samples` at the configurations X (p, n_x): M (p,nd,nd),
+def _split(model, X: np.ndarray, theta: np.ndarray, speed: float) -> tuple[np.ndarray, ...]:
+    """:func:`kernels.split.split_samples` at the configurations X (p, n_x) at angles theta (p,): M (p,nd,nd),
     C [w^0, w^1], K [w^0, w^1, w^2] (each (p,nd,nd)), f^d [w^0, w^1, w^2] (each (p,nd)),
     and F_q^d, F_{q^d q} q', F_{q^d q q} q' q' at unit speed (p, n_x, nd)."""
     X = np.ascontiguousarray(X)
     p, n = X.shape
     nd = model.n_dynamic
-    qdot1 = np.zeros(model.n_inputs + nd)
-    qdot1[:model.n_inputs] = model.input_rates
+    qdot1, qddot1, loads = _unit_rates(model, theta)
     M, C, K, fd = np.empty((p, nd, nd)), np.empty((p, 2, nd, nd)), np.empty((p, 3, nd, nd)), np.empty((p, 3, nd))
     F = tuple(np.empty((p, n, nd)) for _ in range(3))
-    split.split_samples(model.arrays, X, qdot1, float(speed), M, C, K, fd, *F)
+    split.split_samples(model.arrays, X, qdot1, qddot1, loads, float(speed), M, C, K, fd, *F)
     return (M, list(np.moveaxis(C, 1, 0)), list(np.moveaxis(K, 1, 0)), list(np.moveaxis(fd, 1, 0))) + F
 
 
@@ -156,11 +170,12 @@ def omega_split(model, samples: int, *, name: str | None = None, rebuild=None, m
     stiffness match the omega^0 terms (found from a first pass at S = 1 rad/s on at most
     8 samples), which keeps the rounding error of the split at machine precision relative
     to the matrices at operating speeds."""
-    X = nominal_configurations(model, samples)
-    K2 = _split(model, X[:: max(1, samples // 8)], 1.0)[2]
+    X, theta = nominal_configurations(model, samples), sample_angles(samples)
+    step = max(1, samples // 8)
+    K2 = _split(model, X[::step], theta[::step], 1.0)[2]
     big, small = np.abs(K2[0]).max(), np.abs(K2[2]).max()
     speed = float(np.clip(np.sqrt(big / small), 1e-3, 1e6)) if small > 0 and big > 0 else 1.0
-    Mb, Cb, Kb, fd, Fd, Fdv, Fda = _split(model, X, speed)
+    Mb, Cb, Kb, fd, Fd, Fdv, Fda = _split(model, X, theta, speed)
     Mi, Ci, Ki, fi = _add_independent(model, Fd, Fdv, Fda, None)
     C = [c + ci for c, ci in zip(Cb, Ci)]
     K = [k + ki for k, ki in zip(Kb, Ki)]
@@ -198,12 +213,13 @@ def reduced_residual(model, theta: float, qd, qd_dot, qd_ddot, omega: float) -> 
     at crank angle theta (rad), dynamic coordinates and rates (n_d,) and input speed
     omega (rad/s); zero on a solution, equal to f^d at the nominal state."""
     x = configuration(model, theta, qd)
-    nq = model.n_inputs + model.n_dynamic
-    qdot = np.concatenate([omega * model.input_rates, np.asarray(qd_dot, dtype=float)])
-    qddot = np.concatenate([np.zeros(model.n_inputs), np.asarray(qd_ddot, dtype=float)])
+    nr = model.n_inputs
+    qdot1, qddot1, loads = _unit_rates(model, np.array([float(theta)]))
+    qdot = np.concatenate([omega * qdot1[0, :nr], np.asarray(qd_dot, dtype=float)])
+    qddot = np.concatenate([omega**2 * qddot1[0, :nr], np.asarray(qd_ddot, dtype=float)])
     nd, n = model.n_dynamic, model.n_coordinates
     Mb, Cb, Kb = (np.empty((nd, nd)) for _ in range(3))
     fd = np.empty(nd)
     Fd, Fdv, Fda = (np.empty((n, nd)) for _ in range(3))
-    assembly.reduced_sample(model.arrays, x, qdot.reshape(nq), qddot.reshape(nq), Mb, Cb, Kb, fd, Fd, Fdv, Fda)
+    assembly.reduced_sample(model.arrays, x, qdot, qddot, loads[0], Mb, Cb, Kb, fd, Fd, Fdv, Fda)
     return fd

@@ -6,7 +6,8 @@ Nodal coordinates x: every point contributes ``"<point>.x", "<point>.y"`` (m) (a
 orientation node of a spatial model ``"<node>.l0" .. "<node>.l3"`` (Euler parameters, see
 :mod:`periodyn.model.spatial`), in this order. Deformation modes are named ``"<element>.<mode>"``.
 Coordinates q = [q^r, q^d]: inputs q^r (prescribed nodal coordinates or modes, each
-``rate * theta`` above its reference value, theta = omega t the crank angle) and dynamic
+``rate * theta`` or a function g(theta) (:class:`~periodyn.model.driving.AngleFunction`)
+above its reference value, theta = omega t the crank angle) and dynamic
 coordinates q^d (dynamic nodal coordinates, as deviations from their reference value,
 then flexible modes in element order).
 """
@@ -20,6 +21,7 @@ import numpy as np
 from ..errors import InputError
 from .compile import CompiledModel, compile_model
 from .output_builder import OutputBuilder
+from .driving import AngleFunction, angle_function
 from .elements import FREE, RIGID, IndependentElement, PlanarBeam, PlanarHinge, PlanarTruss, mode_statuses
 from .spatial import SpatialTruss, orientation_coordinates
 from .spatial_builder import SpatialBuilder
@@ -54,6 +56,8 @@ class Model(SpatialBuilder, OutputBuilder):
     dimension: int = 2
     orientations: dict[str, tuple[float, float, float, float]] = field(default_factory=dict)
     body_inertias: dict[str, np.ndarray] = field(default_factory=dict)
+    motions: dict[str, AngleFunction] = field(default_factory=dict)
+    angle_loads: list[tuple[str, float, AngleFunction]] = field(default_factory=list)
 
     def __post_init__(self):
         if self.dimension not in (2, 3):
@@ -182,6 +186,30 @@ class Model(SpatialBuilder, OutputBuilder):
         self._check_node(angle, self.angles, "torque")
         self.loads[angle] = self.loads.get(angle, 0.0) + float(torque)
 
+    def add_load(self, target: str, function, direction=None) -> None:
+        """A load given as a function of the driving angle theta (an AngleFunction or a
+        callable theta -> (f, f', f''), e.g. ``AngleFunction.samples(table)`` of a piston gas
+        force): on a nodal coordinate (``"B.x"``, an angle: N or N m), or on a point along
+        ``direction`` (dimension,) (N per unit of direction). It enters the linearized
+        equations per sample, with no power of omega."""
+        f = angle_function(function, f"load on '{target}'")
+        if f.rate != 0.0:
+            raise InputError(f"load on '{target}': a load must be periodic in theta, but its function grows by "
+                             f"{2 * np.pi * f.rate:.6g} per turn; give its periodic table or coefficients")
+        if direction is None:
+            if target in self.points:
+                raise InputError(f"load on point '{target}': give a direction ({self.dimension} components) or "
+                                 f"name one coordinate ('{target}.x')")
+            self._check_coordinate(target, f"load on '{target}'")
+            self.angle_loads.append((target, 1.0, f))
+            return
+        self._check_node(target, self.points, "load")
+        d = np.asarray(direction, dtype=float)
+        if d.shape != (self.dimension,) or not np.isfinite(d).all():
+            raise InputError(f"load on point '{target}': direction must be {self.dimension} finite numbers, got "
+                             f"{direction!r}")
+        self.angle_loads.extend((f"{target}.{c}", float(dc), f) for c, dc in zip(self._axes, d) if dc != 0.0)
+
     def set_gravity(self, acceleration) -> None:
         """Uniform gravity field (dimension,) m/s^2 acting on point masses and distributed masses."""
         g = np.asarray(acceleration, dtype=float)
@@ -196,9 +224,12 @@ class Model(SpatialBuilder, OutputBuilder):
         for c in self._expand(name):
             self.fixed.append(c)
 
-    def prescribe(self, name: str, rate: float = 1.0) -> None:
+    def prescribe(self, name: str, rate=1.0) -> None:
         """Make a nodal coordinate or a mode (``"<element>.<mode>"``) an input
-        ``q^r = reference + rate * theta`` with theta = omega t."""
+        ``q^r = reference + rate * theta`` with theta = omega t, or, with ``rate`` an
+        AngleFunction or a callable theta -> (g, g', g''), ``q^r = reference + g(theta)``
+        (g periodic plus linear in theta: e.g. ``theta + 0.1 (1 - cos theta)`` for a crank
+        speed ``omega (1 + 0.1 sin theta)``)."""
         if name not in set(self._coordinate_names()):
             if name.count(".") != 1 or name.split(".")[0] not in {e.name for e in self.elements}:
                 raise InputError(f"prescribe: '{name}' is neither a nodal coordinate ('<point>.x', an angle) "
@@ -206,7 +237,12 @@ class Model(SpatialBuilder, OutputBuilder):
             self._mode(name)
         if name in self.prescribed:
             raise InputError(f"'{name}' is prescribed twice")
-        self.prescribed[name] = float(rate)
+        if isinstance(rate, (int, float, np.number)):
+            self.prescribed[name] = float(rate)
+            return
+        motion = angle_function(rate, f"prescribe '{name}'")
+        self.prescribed[name] = motion.rate
+        self.motions[name] = motion
 
     def make_dynamic(self, coordinate: str) -> None:
         """Make a nodal coordinate a dynamic degree of freedom (deviation from its reference);

@@ -2,7 +2,8 @@
 reduced equations (4) of Schwab & Meijaard (2001) as a ``periodyn.DAE`` that shooting,
 IHB, continuation and the integrators accept.
 
-The inputs are rheonomic, ``q^r = rates * omega t``, and are substituted, so the problem
+The inputs are rheonomic, ``q^r = g(omega t)`` (``rates * omega t`` at constant speed),
+with the loads that vary with the driving angle, and are substituted, so the problem
 is an ODE in the dynamic coordinates q^d alone (n = n_d, m = 0), periodic in t whenever
 the rigid motion is, with unit mass and the force the dynamic accelerations
 
@@ -98,11 +99,25 @@ class ElementEquations:
         b, nr = q.shape[0], self.n_inputs
         Q = np.empty((b, nr + q.shape[1]))
         Qd = np.empty_like(Q)
-        Q[:, :nr] = np.multiply.outer(omega * np.asarray(t, float), self.rates).reshape(b, nr)
+        if self.model.input_motions:
+            g, dg, _ = self.model.drive(omega * np.asarray(t, float).reshape(b))
+            Q[:, :nr], Qd[:, :nr] = g, omega * dg
+        else:
+            Q[:, :nr] = np.multiply.outer(omega * np.asarray(t, float), self.rates).reshape(b, nr)
+            Qd[:, :nr] = omega * self.rates
         Q[:, nr:] = q
-        Qd[:, :nr] = omega * self.rates
         Qd[:, nr:] = qd
         return Q, Qd
+
+    def driving(self, t, omega) -> tuple[np.ndarray, np.ndarray]:
+        """Prescribed accelerations (b, n_q) (zero dynamic part) and the loads that vary
+        with the driving angle (b, n_x) at times t (b,)."""
+        t = np.asarray(t, float).reshape(-1)
+        Qdd = np.zeros((t.size, self.n_inputs + self.model.n_dynamic))
+        if self.model.uniform:
+            return Qdd, np.zeros((t.size, self.model.n_coordinates))
+        Qdd[:, :self.n_inputs] = omega**2 * self.model.drive(omega * t)[2]
+        return Qdd, self.model.applied_loads(omega * t)
 
     def __call__(self, q, qd, t, omega, jacobians: bool):
         """(acc (b, n_d), Gq, Gv (b, n_d, n_d) or None) at states q, qd (b, n_d), times t."""
@@ -118,8 +133,8 @@ class ElementEquations:
         acc = np.empty((b, nd))
         Gq, Gv = (np.empty((b, nd, nd)), np.empty((b, nd, nd))) if jacobians else (self._none, self._none)
         info = np.zeros((b, 2))
-        kernel.accelerations(self.model.arrays, Q, Qd, X, Qx, FQ, self.configurations.tol, NEWTON_MAX_ITER, MAX_HALVINGS,
-                             jacobians, acc, Gq, Gv, info)
+        kernel.accelerations(self.model.arrays, Q, Qd, *self.driving(t, omega), X, Qx, FQ, self.configurations.tol,
+                             NEWTON_MAX_ITER, MAX_HALVINGS, jacobians, acc, Gq, Gv, info)
         failed = info[:, 0] < 0
         if failed.any():  # rejected by a step-size control, reported by a Newton solver
             acc[failed] = np.nan
@@ -183,8 +198,9 @@ def reduced_equations(model, omega: float, t, q, qd, qdd):
     for j in range(k):
         eq(q[j:j + 1], qd[j:j + 1], t[j:j + 1], omega, False)
         Q, Qd = eq.inputs(q[j:j + 1], qd[j:j + 1], t[j:j + 1], omega)
-        qddot = np.concatenate([np.zeros(model.n_inputs), qdd[j]])
-        kernel._state(model.arrays, eq.configurations.sets[1][0][0], Qd[0], qddot, Mb[j], Cb[j], Kb[j], R[j])
+        Qdd, loads = eq.driving(t[j:j + 1], omega)
+        qddot = np.concatenate([Qdd[0, :model.n_inputs], qdd[j]])
+        kernel._state(model.arrays, eq.configurations.sets[1][0][0], Qd[0], qddot, loads[0], Mb[j], Cb[j], Kb[j], R[j])
     return R, Mb, Cb, Kb
 
 

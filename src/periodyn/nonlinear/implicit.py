@@ -62,6 +62,10 @@ class ImplicitMap:
         if self.linear is None and (self.eq is None or not hasattr(self.eq, "configurations")):
             raise InputError(f"method='implicit' integrates element models (periodyn.element_dae) and rheo-linear "
                              f"systems (rheo_linear_dae); '{system.name}' is neither: use method='DOP853', 'Radau' or 'BDF'")
+        if self.eq is not None and self.linear is None and not self.eq.model.uniform:
+            raise InputError(f"method='implicit' integrates element models driven at constant speed; '{system.name}' "
+                             "has inputs or loads that are functions of the driving angle: use method='DOP853' "
+                             "(or 'Radau' / 'BDF' for stiff models)")
         if self.linear is not None and not np.isclose(omega, self.linear.omega, rtol=1e-12):
             raise InputError(f"omega={omega!r} differs from the rheo-linear system's own omega {self.linear.omega!r}")
         self.n = system.n
@@ -76,7 +80,8 @@ class ImplicitMap:
         eq, nd = self.eq, self.n
         Q, Qd = eq.inputs(y0[None, :nd], y0[None, nd:], np.zeros(1), self.omega)
         X, Qx, FQ = (np.ascontiguousarray(a[:1]).copy() for a in eq.configurations.start(Q))
-        return (eq.model.arrays, np.asarray(eq.rates, float), self.omega, Q, Qd, X, Qx, FQ, eq.configurations.tol,
+        return (eq.model.arrays, np.asarray(eq.rates, float), self.omega, Q, Qd, np.zeros_like(Qd),
+                np.zeros((1, eq.model.n_coordinates)), X, Qx, FQ, eq.configurations.tol,
                 NEWTON_MAX_ITER, MAX_HALVINGS, np.empty((1, nd)), np.empty((1, nd, nd)), np.empty((1, nd, nd)),
                 np.zeros((1, 2)))
 

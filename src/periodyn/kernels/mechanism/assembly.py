@@ -131,9 +131,10 @@ def nodal_product(arr, diag, Ee, X, out):
 
 
 @njit(cache=True)
-def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+def reduced_sample(arr, x, qdot, qddot, load, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     """Reduced linearized equations at one configuration x and input rates
-    (qdot, qddot) (n_q,): overwrites Mb, Cb, Kb (n_d, n_d) of eq. (5), (10) and
+    (qdot, qddot) (n_q,), with nodal loads ``load`` (n_x,) besides the constant ones:
+    overwrites Mb, Cb, Kb (n_d, n_d) of eq. (5), (10) and
     fd (n_d,) = F_d^T (M a - f), the additional forces of eq. (7) (the residual of
     the reduced equations (4) when qdot, qddot include dynamic rates). Also writes the
     transfer-function derivatives Fd, Fdv, Fda (n_x, n_d) used by eq. (11). The nodal
@@ -147,6 +148,7 @@ def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     Me, Ce, Ke = allocate_element_arrays(arr)
     r = np.empty(n)
     element_arrays(arr, x, v, a, D, Dx, Dxx, Me, Ce, Ke, r)
+    r -= load
     add_adjoint_curvature(arr, Dxx, lu_solve_transposed(LU, piv, r), Ke)
     zero = np.zeros(n)
     MFd = np.empty((n, nd))
@@ -164,12 +166,12 @@ def reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
 
 
 @njit(cache=True)
-def linearize_samples(arr, X, qdots, qddots, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+def linearize_samples(arr, X, qdots, qddots, loads, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     """For every sample j and every rate set s: reduced_sample at X[j] with
-    qdots[s], qddots[s] (S, n_q). Outputs Mb, Cb, Kb (S, p, n_d, n_d), fd (S, p, n_d),
+    qdots[s, j], qddots[s, j] (S, p, n_q) and loads[j] (p, n_x). Outputs Mb, Cb, Kb (S, p, n_d, n_d), fd (S, p, n_d),
     Fd, Fdv, Fda (S, p, n_x, n_d)."""
     p = X.shape[0]
     for j in range(p):
         for s in range(qdots.shape[0]):
-            reduced_sample(arr, X[j], qdots[s], qddots[s], Mb[s, j], Cb[s, j], Kb[s, j], fd[s, j],
+            reduced_sample(arr, X[j], qdots[s, j], qddots[s, j], loads[j], Mb[s, j], Cb[s, j], Kb[s, j], fd[s, j],
                            Fd[s, j], Fdv[s, j], Fda[s, j])

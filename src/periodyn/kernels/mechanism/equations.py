@@ -4,7 +4,8 @@ dynamic accelerations, with their Jacobians by implicit differentiation.
 
 Per state k: the configuration x = F(q) by Newton from a warm start (a solved
 configuration nearby, updated in place), then :func:`assembly.reduced_sample` at the
-state's rates with q̈^d = 0 gives M̄ and the residual R0 = f^d, so q̈^d = -M̄⁻¹ R0. The
+state's rates with q̈^d = 0 (and the prescribed q̈^r, with the state's nodal loads)
+gives M̄ and the residual R0 = f^d, so q̈^d = -M̄⁻¹ R0. The
 residual R(q, q̇, q̈) is affine in q̈^d with slope M̄, so at the solution
 ``d q̈^d / d q^d = -M̄⁻¹ K̄`` and ``d q̈^d / d q̇^d = -M̄⁻¹ C̄`` with K̄, C̄ of
 reduced_sample evaluated at the actual accelerations (a second pass, only when asked).
@@ -17,14 +18,14 @@ from . import assembly, constraint_system, transfer
 
 
 @njit(cache=True)
-def _state(arr, x, qdot, qddot, Mb, Cb, Kb, fd):
+def _state(arr, x, qdot, qddot, load, Mb, Cb, Kb, fd):
     """reduced_sample at x (M̄, C̄, K̄, f^d) with scratch transfer-function arrays."""
     n = x.shape[0]
     nd = Mb.shape[0]
     Fd = np.empty((n, nd))
     Fdv = np.empty((n, nd))
     Fda = np.empty((n, nd))
-    assembly.reduced_sample(arr, x, qdot, qddot, Mb, Cb, Kb, fd, Fd, Fdv, Fda)
+    assembly.reduced_sample(arr, x, qdot, qddot, load, Mb, Cb, Kb, fd, Fd, Fdv, Fda)
 
 
 @njit(cache=True)
@@ -47,9 +48,10 @@ def _configuration(arr, x, q, xs, qs, Fs, tol, max_iter, D, Dx, Dxx, Dxxx, Phi, 
 
 
 @njit(cache=True)
-def _acceleration(arr, x, qdot, D, Dx, Dxx, J, Fq, acc):
+def _acceleration(arr, x, qdot, qddot, load, D, Dx, Dxx, J, Fq, acc):
     """q̈^d (n_d,) at a solved configuration x (tensors D, Dx, Dxx and J at x) for rates
-    qdot (n_q,) and q̈^d = 0 in F_dᵀ M a; overwrites Fq = F_q (n_x, n_q)."""
+    qdot (n_q,), accelerations qddot (n_q,) whose dynamic part is zero in F_dᵀ M a, and
+    nodal loads ``load`` (n_x,) besides the constant ones; overwrites Fq = F_q (n_x, n_q)."""
     n = x.shape[0]
     nd = acc.shape[0]
     nr = qdot.shape[0] - nd
@@ -57,19 +59,22 @@ def _acceleration(arr, x, qdot, D, Dx, Dxx, J, Fq, acc):
     v = Fq @ qdot
     conv = np.empty(n)
     constraint_system.contract2(arr, Dxx, v, v, conv)
-    a = -np.linalg.solve(J, conv)
+    a = Fq @ qddot - np.linalg.solve(J, conv)
     M = np.empty((n, n))
     r = np.empty(n)
     C = np.empty((n, n))
     K = np.empty((n, n))
     assembly.nodal_arrays(arr, x, v, a, D, Dx, Dxx, M, r, C, K)
+    r -= load
     Fd = np.ascontiguousarray(Fq[:, nr:])
     acc[:] = np.linalg.solve(Fd.T @ (M @ Fd), -(Fd.T @ r))
 
 
 @njit(cache=True)
-def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobians, acc, Gq, Gv, info):
-    """Dynamic accelerations of the states Q, Qdot (b, n_q) (q = [q^r, q^d], q̈^r = 0).
+def accelerations(arr, Q, Qdot, Qddot, loads, X, Qx, FQ, tol, max_iter, max_halvings, jacobians, acc, Gq, Gv, info):
+    """Dynamic accelerations of the states Q, Qdot (b, n_q) (q = [q^r, q^d]) with the
+    prescribed accelerations Qddot (b, n_q) (the dynamic part must be zero) and nodal
+    loads (b, n_x) besides the model's constant ones.
 
     X (b, n_x), FQ (b, n_x, n_q): solved configurations at Qx (b, n_q) and their F_q on
     entry (warm starts), overwritten by those at Q (Qx updated). Writes acc (b, n_d); if
@@ -101,14 +106,14 @@ def accelerations(arr, Q, Qdot, X, Qx, FQ, tol, max_iter, max_halvings, jacobian
         info[k, 1] = res
         X[k] = x
         Qx[k] = Q[k]
-        _acceleration(arr, x, Qdot[k], D, Dx, Dxx, J, FQ[k], acc[k])
+        _acceleration(arr, x, Qdot[k], Qddot[k], loads[k], D, Dx, Dxx, J, FQ[k], acc[k])
         if jacobians:
             Mb = np.empty((nd, nd))
             Cb = np.empty((nd, nd))
             Kb = np.empty((nd, nd))
             fd = np.empty(nd)
-            qddot = np.zeros(nq)
+            qddot = Qddot[k].copy()
             qddot[nr:] = acc[k]
-            _state(arr, x, Qdot[k], qddot, Mb, Cb, Kb, fd)
+            _state(arr, x, Qdot[k], qddot, loads[k], Mb, Cb, Kb, fd)
             Gq[k] = -np.linalg.solve(Mb, Kb)
             Gv[k] = -np.linalg.solve(Mb, Cb)

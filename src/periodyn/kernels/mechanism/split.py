@@ -1,9 +1,11 @@
 """The reduced linearized equations of an element model as polynomials in the input speed
-s (Schwab & Meijaard 2001, eq. 5, 7, 9, 10 with constant-speed inputs q^r = rates s t):
+s (Schwab & Meijaard 2001, eq. 5, 7, 9, 10 with inputs that are functions of the driving
+angle, q^r = g(theta), theta = s t, so q^r' = s g' and q^r'' = s^2 g''):
 ``C = C0 + s C1``, ``K = K0 + s K1 + s^2 K2``, ``f^d = f0 + s f1 + s^2 f2``, per sample.
+Loads that are functions of theta enter r0.
 
-At unit speed, v, a, F_{q^d q} q' and F_{q^d q} q'' + F_{q^d q q} q' q' scale with s, s^2,
-s, s^2 exactly (q'' = 0), so the constraint Jacobian is factored and the transfer
+At unit speed (rates g', g''), v, a, F_{q^d q} q' and F_{q^d q} q'' + F_{q^d q q} q' q'
+scale with s, s^2, s, s^2 exactly, so the constraint Jacobian is factored and the transfer
 function differentiated once per sample. Only the element arrays (cheap, one block per
 element) are evaluated at s = -S, 0, +S and split into powers; the reduced matrices
 then come from one product for all powers,
@@ -22,9 +24,10 @@ from .transfer import rates
 
 
 @njit(cache=True)
-def _element_powers(arr, x, v1, a1, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r):
+def _element_powers(arr, x, v1, a1, load, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r):
     """Element arrays with the constraint curvature at input speed s, split into powers of s
-    from s = -speed, 0, +speed: Me (ne, w, w); Ce (2, ne, w, w); Ke (3, ne, w, w); r (3, n_x)."""
+    from s = -speed, 0, +speed: Me (ne, w, w); Ce (2, ne, w, w); Ke (3, ne, w, w); r (3, n_x).
+    ``load`` (n_x,): nodal loads of this sample besides the model's constant ones."""
     n = x.shape[0]
     Cs = np.empty((3,) + Me.shape)
     Ks = np.empty((3,) + Me.shape)
@@ -32,6 +35,7 @@ def _element_powers(arr, x, v1, a1, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r):
     for i in range(3):
         s = (i - 1) * speed
         element_arrays(arr, x, s * v1, s * s * a1, D, Dx, Dxx, Me, Cs[i], Ks[i], rs[i])
+        rs[i] -= load
         add_adjoint_curvature(arr, Dxx, lu_solve_transposed(LU, piv, rs[i]), Ks[i])
     Ce[0] = Cs[1]
     Ce[1] = 0.5 * (Cs[2] - Cs[0]) / speed
@@ -44,22 +48,23 @@ def _element_powers(arr, x, v1, a1, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r):
 
 
 @njit(cache=True)
-def split_sample(arr, x, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """At configuration x, for input rates ``s * qdot1`` (n_q,) and no accelerations:
+def split_sample(arr, x, qdot1, qddot1, load, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+    """At configuration x, for input rates ``s * qdot1`` and accelerations ``s^2 * qddot1``
+    (n_q,) and nodal loads ``load`` (n_x,) besides the constant ones:
     overwrites Mb (n_d, n_d), Cb (2, n_d, n_d), Kb (3, n_d, n_d), fd (3, n_d) (powers of s of
     the reduced M, C, K and of f^d = F_d^T (M a - f)) and F_q^d, F_{q^d q} qdot1 and
-    F_{q^d q q} qdot1 qdot1 (n_x, n_d); ``speed`` (rad/s) is where the element arrays are
+    F_{q^d q} qddot1 + F_{q^d q q} qdot1 qdot1 (n_x, n_d); ``speed`` (rad/s) is where the element arrays are
     sampled (pick it so that the s^2 terms match the s^0 terms)."""
     n = x.shape[0]
     nd = Fd.shape[1]
     v1 = np.empty(n)
     a1 = np.empty(n)
-    D, Dx, Dxx, LU, piv = rates(arr, x, qdot1, np.zeros_like(qdot1), v1, a1, Fd, Fdv, Fda)
+    D, Dx, Dxx, LU, piv = rates(arr, x, qdot1, qddot1, v1, a1, Fd, Fdv, Fda)
     Me, _, _ = allocate_element_arrays(arr)
     Ce = np.empty((2,) + Me.shape)
     Ke = np.empty((3,) + Me.shape)
     r = np.empty((3, n))
-    _element_powers(arr, x, v1, a1, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r)
+    _element_powers(arr, x, v1, a1, load, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r)
     Z = np.empty((n, 6 * nd + 3))  # the right factors of F_d^T, block by block
     tmp = np.empty((n, nd))
     zero = np.zeros(n)
@@ -92,9 +97,10 @@ def split_sample(arr, x, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
 
 
 @njit(cache=True)
-def split_samples(arr, X, qdot1, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """:func:`split_sample` at every configuration X (p, n_x). Outputs Mb
+def split_samples(arr, X, qdot1, qddot1, loads, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
+    """:func:`split_sample` at every configuration X (p, n_x) with its unit-speed rates
+    qdot1[j], qddot1[j] (p, n_q) and loads[j] (p, n_x). Outputs Mb
     (p, n_d, n_d), Cb (p, 2, n_d, n_d), Kb (p, 3, n_d, n_d), fd (p, 3, n_d), Fd, Fdv, Fda
     (p, n_x, n_d)."""
     for j in range(X.shape[0]):
-        split_sample(arr, X[j], qdot1, speed, Mb[j], Cb[j], Kb[j], fd[j], Fd[j], Fdv[j], Fda[j])
+        split_sample(arr, X[j], qdot1[j], qddot1[j], loads[j], speed, Mb[j], Cb[j], Kb[j], fd[j], Fd[j], Fdv[j], Fda[j])

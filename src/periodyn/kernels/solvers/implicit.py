@@ -16,7 +16,7 @@ monodromy matrix of the discrete one-period map (no finite differences).
 The right-hand side is ``evaluate(data, t, q, qd, acc, Gq, Gv, jacobians) -> bool``
 (False: no acceleration at that state; Gq, Gv written when ``jacobians``), chosen at
 compile time by the kind of ``data`` (so the kernels are cached like any other): a
-15-tuple for element models (:func:`element_evaluate`, :mod:`periodyn.kernels.mechanism.equations`),
+17-tuple for element models (:func:`element_evaluate`, :mod:`periodyn.kernels.mechanism.equations`),
 a 4-tuple for rheo-linear systems (:func:`linear_evaluate`).
 """
 
@@ -122,17 +122,18 @@ def period_map(data, y0, t0, T, steps, tol, max_iter, Y, S, counts):
 @njit(cache=True)
 def element_evaluate(data, t, q, qd, acc, Gq, Gv, jacobians):
     """Accelerations q̈^d and their Jacobians of an element model at one state (q^d, q̇^d)
-    at time t, inputs q^r = rates omega t. data: (arrays, rates (n_r,), omega, Q, Qd (1,
-    n_q), X (1, n_x), Qx (1, n_q), FQ (1, n_x, n_q) warm starts (updated in place),
-    tol, max_iter, max_halvings, scratch acc (1, n_d), Gq, Gv (1, n_d, n_d), info (1, 2))."""
-    arr, rates, omega, Q, Qd, X, Qx, FQ, ctol, max_iter, max_halvings, a, A, B, info = data
+    at time t, inputs q^r = rates omega t (constant speed). data: (arrays, rates (n_r,),
+    omega, Q, Qd, Qdd (1, n_q; Qdd zero), loads (1, n_x; zero), X (1, n_x), Qx (1, n_q),
+    FQ (1, n_x, n_q) warm starts (updated in place), tol, max_iter, max_halvings, scratch
+    acc (1, n_d), Gq, Gv (1, n_d, n_d), info (1, 2))."""
+    arr, rates, omega, Q, Qd, Qdd, loads, X, Qx, FQ, ctol, max_iter, max_halvings, a, A, B, info = data
     nr = rates.shape[0]
     for i in range(nr):
         Q[0, i] = omega * t * rates[i]
         Qd[0, i] = omega * rates[i]
     Q[0, nr:] = q
     Qd[0, nr:] = qd
-    equations.accelerations(arr, Q, Qd, X, Qx, FQ, ctol, max_iter, max_halvings, jacobians, a, A, B, info)
+    equations.accelerations(arr, Q, Qd, Qdd, loads, X, Qx, FQ, ctol, max_iter, max_halvings, jacobians, a, A, B, info)
     if info[0, 0] < 0:
         return False
     acc[:] = a[0]
@@ -166,7 +167,7 @@ def evaluate(data, t, q, qd, acc, Gq, Gv, jacobians):
 
 @overload(evaluate)
 def _evaluate(data, t, q, qd, acc, Gq, Gv, jacobians):
-    if len(data) == 15:
+    if len(data) == 17:
         return lambda data, t, q, qd, acc, Gq, Gv, jacobians: element_evaluate(data, t, q, qd, acc, Gq, Gv, jacobians)
     if len(data) == 4:
         return lambda data, t, q, qd, acc, Gq, Gv, jacobians: linear_evaluate(data, t, q, qd, acc, Gq, Gv, jacobians)
