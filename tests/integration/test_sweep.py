@@ -108,7 +108,7 @@ def test_parameter_grid_over_builder_keywords():
         ({"omega": [[1.0, 2.0]]}, "1-D"),
         ({"harmonics": -1}, "harmonics must be an integer >= 1"),
         ({"samples": 0}, "samples must be an integer >= 1"),
-        ({"method": "fast"}, "unknown method 'fast'"),
+        ({"stability": "fast"}, "unknown method 'fast'"),
         ({"workers": -2}, "workers must be an integer >= 0"),
         ({"parameters": {"zeta": [0.1]}}, "parameter grid needs a model builder"),
         ({"resume": True}, "resume=True needs out="),

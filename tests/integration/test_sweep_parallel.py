@@ -31,7 +31,7 @@ example = "pendulum"
 omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
 harmonics = 10
 samples = 48
-method = "dense"
+stability = "dense"
 """
 CHUNK = 20
 
