@@ -1,5 +1,5 @@
-"""Dataset helpers shared by the integration tests (xarray >= 2024.1: ``Dataset.drop_attrs``
-only exists from 2024.7)."""
+"""Helpers shared by the integration tests: datasets without attributes (xarray >= 2024.1:
+``Dataset.drop_attrs`` only exists from 2024.7) and a long pendulum sweep file."""
 
 import xarray as xr
 
@@ -11,3 +11,18 @@ def without_attrs(ds: xr.Dataset) -> xr.Dataset:
     for variable in out.variables.values():
         variable.attrs = {}
     return out
+
+
+def pendulum_sweep_text(speeds: int, description: str) -> str:
+    """A pendulum sweep file of ``speeds`` speeds over 0.05-1.4 omega0 with dense Hill (m = 10,
+    48 samples): long enough to be interrupted or lose a worker mid-run."""
+    return f"""
+description = "{description}"
+[model]
+example = "pendulum"
+[sweep]
+omega = {{ start = 0.05, stop = 1.4, num = {speeds}, unit = "omega0" }}
+harmonics = 10
+samples = 48
+stability = "dense"
+"""

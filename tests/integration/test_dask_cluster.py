@@ -21,23 +21,14 @@ from periodyn.engine.front import sweep_file
 from periodyn.engine.threads import WORKER_THREAD_ENV
 from periodyn.results import load
 from periodyn.studies.spec import load_sweep_file
-from tests.integration.datasets import without_attrs
+from tests.integration.datasets import pendulum_sweep_text, without_attrs
 
 pytest.importorskip("distributed")
 
 ROOT = Path(__file__).resolve().parents[2]
 SPEEDS = 2000
 CHUNK = 20
-SWEEP = f"""
-description = "sweep on a local Dask cluster, one of whose workers is killed by the test"
-[model]
-example = "pendulum"
-[sweep]
-omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
-harmonics = 10
-samples = 48
-stability = "dense"
-"""
+SWEEP = pendulum_sweep_text(SPEEDS, "sweep on a local Dask cluster, one of whose workers is killed by the test")
 
 
 def free_port() -> int:

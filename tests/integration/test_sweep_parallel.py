@@ -18,21 +18,12 @@ from periodyn.studies.spec import load_sweep_file
 from periodyn.engine import backends
 from periodyn.examples import pendulum
 from periodyn.engine.front import ExecutionOptions, sweep, sweep_file
-from tests.integration.datasets import without_attrs
+from tests.integration.datasets import pendulum_sweep_text, without_attrs
 
 # long enough (dense Hill, ~10 s on one core) that the sweep is still running once its worker
 # has started: the sweep's own process never waits for a worker still starting
 SPEEDS = 6000
-KILL_SWEEP = f"""
-description = "sweep that is killed mid-run by the test"
-[model]
-example = "pendulum"
-[sweep]
-omega = {{ start = 0.05, stop = 1.4, num = {SPEEDS}, unit = "omega0" }}
-harmonics = 10
-samples = 48
-stability = "dense"
-"""
+KILL_SWEEP = pendulum_sweep_text(SPEEDS, "sweep that is killed mid-run by the test")
 CHUNK = 20
 
 

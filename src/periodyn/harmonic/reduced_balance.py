@@ -25,6 +25,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..model.reduce import MeanModes, project
+from ..numerics.spectra import sample_angles, synthesize
 from ..system import OmegaSplitModel
 from .operator import HarmonicOperator
 from .pattern import from_real_basis, to_real_basis
@@ -48,13 +49,12 @@ class ReducedBalance:
         self.model, self.m, self.n, self.modes = model, m, model.n, modes
         Ms, Cs, Ks, fs, _ = model._power_spectra
         self.P = P = band + 2 * m + 1
-        theta = 2 * np.pi * np.arange(P) / P
+        theta = sample_angles(P)
         K = (Ms.shape[0] - 1) // 2
         d = np.arange(-band, band + 1)
-        E = np.exp(1j * np.outer(theta, d))  # (P, 2 band + 1)
 
         def sampled(X):  # coefficients at the P angles from harmonics |d| <= band, (P, ...)
-            return np.tensordot(E, X[d + K], 1).real
+            return synthesize(X[d + K], theta)
 
         blocks = [sampled(Ms)] + [sampled(Cs[..., p]) for p in range(Cs.shape[-1])] + \
                  [sampled(Ks[..., p]) for p in range(Ks.shape[-1])]

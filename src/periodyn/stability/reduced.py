@@ -30,7 +30,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..model.reduce import guarded_modes, mean_modes
-from ..numerics.spectra import fourier_coefficients
+from ..numerics.spectra import fourier_coefficients, min_samples, sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
@@ -130,14 +130,11 @@ class ReducedStability:
         aliases onto a harmonic |a| <= m on these angles, so the products below are the
         harmonic convolutions exactly, at O(P (n-k) k) per speed instead of O(m K (n-k) k)."""
         if (k, m) not in self._couplings:
-            K = (self.M.shape[0] - 1) // 2
-            P = 2 * K + 2 * m + 1
-            theta = 2 * np.pi * np.arange(P) / P
-            F = np.exp(1j * np.outer(theta, np.arange(-K, K + 1)))
+            theta = sample_angles(min_samples(m, (self.M.shape[0] - 1) // 2))
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
             stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)  # (2K+1, n, n, 1 + Pc + Pk)
             l, h = slice(0, k), slice(k, self.n)
-            hl, lh = (np.ascontiguousarray(np.tensordot(F, stack[:, r, c], 1).real) for r, c in ((h, l), (l, h)))
+            hl, lh = (np.ascontiguousarray(synthesize(stack[:, r, c], theta)) for r, c in ((h, l), (l, h)))
             self._couplings[k, m] = (E, hl, lh)
         return self._couplings[k, m]
 
