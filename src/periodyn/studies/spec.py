@@ -22,10 +22,10 @@ table              what                                        module
 
 or a rotor file (``rotor = "rotors/table1.toml"``, relative to the study file; a
 ``[campbell]`` study only), or an element model (see :func:`element_model`):
-``points``/``angles`` (nodes), ``[[model.elements]]`` of ``type`` beam/truss/hinge,
-``masses``, ``inertias``, ``forces``, ``torques``, ``gravity``, ``fixed``, ``prescribed``
-(name = rate), ``dynamic`` and ``[[model.outputs]]`` (see
-``sweeps/elliptic_pendulum_elements.toml``).
+planar or spatial: nodes, ``[[model.elements]]``, masses, rigid bodies, independent
+elements, loads, ``fixed``, ``prescribed``, ``dynamic`` and ``[[model.outputs]]``
+(:mod:`periodyn.studies.elements`; see ``sweeps/elliptic_pendulum_elements.toml``,
+``sweeps/cardan_shaft_elements.toml``, ``sweeps/rotor_table1_elements.toml``).
 
 Every problem raises :class:`InputError` whose message starts with the file name and the
 table, and says what to change.
@@ -44,7 +44,7 @@ from . import cache
 from .campbell import CampbellSpec, parse_campbell, run_campbell
 from .checks import FIXED_UNITS, Checker, builder_parameters, parameter_check
 from .continuation import StudySpec, parse_continuation, run_study
-from .elements import MODEL_FORM_KEYS, check_element_form, element_model
+from .elements import MODEL_FORM_KEYS, check_element_form, element_model, element_rotor
 from .sweep import MAX_HARMONICS, SweepPlan, SweepSpec, parse_sweep_table, run_sweep
 from .transient import TransientSpec, parse_transient, run_transient
 from ..errors import InputError
@@ -75,7 +75,7 @@ def known_examples() -> dict[str, Callable]:
     return {name: getattr(examples, name) for name in examples.__all__ if callable(getattr(examples, name))}
 
 
-def _model(check: Checker, data: dict, name: str) -> tuple:
+def _model(check: Checker, data: dict, name: str, kind: str) -> tuple:
     """(example, builder, accepted parameters, settable names, parameters, rotor file) of [model]."""
     from ..rotor import load_rotor
 
@@ -109,7 +109,12 @@ def _model(check: Checker, data: dict, name: str) -> tuple:
     else:
         table = check_element_form(check, model)
         example = table["name"] if "name" in model else name
-        builder = functools.partial(element_model, table, name=example)
+        if (kind == "campbell") != ("stations" in table):
+            check.fail("[model] stations", "a [campbell] study of an element model needs stations = [<points on the "
+                                           "shaft>] (and only it)" if kind == "campbell" else
+                       "stations are for a [campbell] study of a spatial rotor; drop them here")
+        build = element_rotor if kind == "campbell" else element_model
+        builder = functools.partial(build, table, name=example)
         accepted, settable = {"samples": None}, ()
 
     parameters = check.table(model.get("parameters", {}), "[model.parameters]")
@@ -138,7 +143,7 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep"):
                                 f"not {' and '.join(f'[{k}]' for k in given)}")
     kind = given[0]
     description = check.string(data.get("description", ""), "description")
-    example, builder, accepted, settable, parameters, rotor_file = _model(check, data, name)
+    example, builder, accepted, settable, parameters, rotor_file = _model(check, data, name, kind)
     if rotor_file is not None and kind != "campbell":
         check.fail("[model] rotor", "a rotor file is the model of a [campbell] study; use an example or an "
                                     "element model here")
