@@ -56,6 +56,9 @@ class SpatialBuilder:
         (prescribe ``"<name>_p.rotation"`` to drive one). Returns (hinge_p, hinge_q, cross)."""
         self._check_node(orientations[0], self.orientations, f"universal joint '{name}'")
         self._check_node(orientations[1], self.orientations, f"universal joint '{name}'")
+        if orientations[0] == orientations[1]:
+            raise InputError(f"universal joint '{name}' joins orientation node '{orientations[0]}' to itself; a joint "
+                             "connects two different nodes: name the other one in orientations")
         a = np.asarray(axes, dtype=float)
         if a.shape != (2, 3):
             raise InputError(f"universal joint '{name}': axes must be two 3-vectors, got {axes!r}")
