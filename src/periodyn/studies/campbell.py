@@ -2,8 +2,9 @@
 over spin speeds in the stationary frame (:func:`periodyn.rotor.campbell`).
 
 Format (``description`` as in :mod:`periodyn.studies.spec`; the model is a rotor example,
-``[model] example = "rotor"``, or a rotor file, ``[model] rotor = "rotors/table1.toml"``
-relative to the study file, see :mod:`periodyn.rotor.files`)::
+``[model] example = "rotor"``, a rotor file, ``[model] rotor = "rotors/table1.toml"``
+relative to the study file, see :mod:`periodyn.rotor.files`, or a spatial element model of a
+spinning shaft with ``stations``, see :mod:`periodyn.studies.elements`)::
 
     [campbell]
     speeds = { start = 0.0, stop = 8000.0, num = 401, unit = "rpm" }   # unit: rad/s, rpm or Hz
