@@ -324,3 +324,23 @@ def test_any_wrong_value_in_a_spatial_model_gives_a_clean_error(path, value):
         parse_sweep(text, "test.toml", "test").build()
     except InputError as exc:
         assert str(exc).startswith("test.toml: ")
+
+
+CARDAN_DATA = tomllib.loads(CARDAN.read_text())
+CARDAN_DATA["sweep"]["samples"] = 8  # the model at a few angles: the checks, not the sweep
+CARDAN_PATHS = [("model",) + p for p in leaves(CARDAN_DATA["model"])]
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(CARDAN_PATHS), junk)
+def test_any_wrong_value_in_a_jointed_model_gives_a_clean_error(path, value):
+    data = copy.deepcopy(CARDAN_DATA)
+    target = data
+    for key in path[:-1]:
+        target = target[key]
+    target[path[-1]] = value
+    text = "\n".join(f"{k} = {toml_value(v)}" for k, v in data.items())
+    try:
+        parse_sweep(text, "test.toml", "test").build()
+    except InputError as exc:
+        assert str(exc).startswith("test.toml: ")
