@@ -132,8 +132,8 @@ class _Chart:
         return -float(res.fun), at
 
     def step(self, traces: list[_Trace], d: int, p_new: float):
-        """Follow ``traces`` (by increasing omega) to p_new: (points, closing pairs, exits)
-        or None when the brackets do not fit (halve the step)."""
+        """Follow ``traces`` (by increasing omega) to p_new: (roots found {i: omega}, closing
+        pairs i (with i + 1), exits from the window, stray failures (halve the step))."""
         old = [t.last(d) for t in traces]
         pred = []
         for t, (p0, w0, _, _) in zip(traces, old):
@@ -151,11 +151,15 @@ class _Chart:
                 failed[i] = got[1]
             else:
                 found[i] = self.root(p_new, *got)
-        exits = [i for i, d_ in failed.items() if (i == 0 and d_ < 0) or (i == len(traces) - 1 and d_ > 0)]
-        pairs = [i for i in failed if failed[i] > 0 and failed.get(i + 1) == -1 and i not in exits]
-        if set(failed) != set(exits) | set(pairs) | {i + 1 for i in pairs}:
-            return None
-        return found, pairs, exits
+        def toward_edge(i):   # the root runs out of the window: it was near the edge, moving to it
+            edge = self.omega[0] if failed[i] < 0 else self.omega[-1]
+            return abs(edge - old[i][1]) <= 4.0 * max(abs(pred[i] - old[i][1]), 1e-3 * pred[i])
+
+        exits = [i for i in failed if ((i == 0 and failed[i] < 0) or (i == len(traces) - 1 and failed[i] > 0))
+                 and toward_edge(i)]
+        pairs = [i for i in failed if failed[i] > 0 and failed.get(i + 1) == -1]
+        stray = sorted(set(failed) - set(exits) - set(pairs) - {i + 1 for i in pairs})
+        return found, pairs, exits, stray
 
     def tip(self, a: _Trace, b: _Trace, d: int, p_old: float, p_new: float, found: dict, ia: int):
         """Where the zone (or gap) between a and b closes between p_old and p_new: the tip
@@ -184,18 +188,21 @@ class _Chart:
         p_old = grid[s]
         for target in targets:
             while active and p_old != target:
-                p_new, result = target, None
-                for _ in range(self.o.max_halvings + 1):
-                    result = self.step(active, d, p_new)
-                    if result is not None:
-                        result = self._close(active, d, p_old, p_new, *result)
+                p_new = target
+                for halving in range(self.o.max_halvings + 1):
+                    found, pairs, exits, stray = self.step(active, d, p_new)
+                    last = halving == self.o.max_halvings
+                    result = None if stray and not last else self._close(active, d, p_old, p_new, found, pairs, exits)
                     if result is not None:
                         break
                     p_new = 0.5 * (p_old + p_new)
                 if result is None:
                     for t in active:
-                        t.end[d] = f"lost: no bracket of g near p = {p_new:.6g} after {self.o.max_halvings} halvings"
+                        t.end[d] = f"lost: no tip between p = {p_old:.6g} and {p_new:.6g} after halvings"
                     return
+                for i in stray:
+                    active[i].end[d] = (f"lost: no root near the prediction at p = {p_new:.6g} and no neighbour "
+                                        "followed (a boundary outside the speed window at the seeds? widen omega)")
                 found, joins, exits = result
                 for i, j, tip in joins:
                     active[i].end[d], active[j].end[d] = ("join", active[j], tip), ("join", active[i], tip)
