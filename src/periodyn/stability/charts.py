@@ -169,6 +169,8 @@ class _Chart:
         lo, hi = a.last(d)[1], b.last(d)[1]
         h_new, w_new = self.extremum(p_new, lo, hi, sign)
         if h_new > 0:
+            if not lo < w_new < hi:
+                return None
             ends = (self.g(p_new, lo), self.g(p_new, hi))
             if np.sign(ends[0]) == sign or np.sign(ends[1]) == sign:
                 return None
@@ -193,8 +195,9 @@ class _Chart:
                     found, pairs, exits, stray = self.step(active, d, p_new)
                     last = halving == self.o.max_halvings
                     result = None if stray and not last else self._close(active, d, p_old, p_new, found, pairs, exits)
-                    if result is not None:
+                    if result is not None and np.all(np.diff([found[i] for i in sorted(found)]) > 0):
                         break
+                    result = None
                     p_new = 0.5 * (p_old + p_new)
                 if result is None:
                     for t in active:
