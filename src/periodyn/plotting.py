@@ -425,7 +425,7 @@ def plot_stability_chart(ds: xr.Dataset, title: str = "", ax=None):
     """A stability chart (the result of a ``[chart]`` study, :mod:`periodyn.stability.chart_data`):
     each boundary in the (omega, parameter) plane, its points coloured by crossing type with
     short ticks towards the unstable side, tips (a zone closing) as triangles, monodromy
-    checks as squares (filled: agrees); into ``ax``, else a new Figure that it returns."""
+    checks as open squares (red crosses where they disagree); into ``ax``, else a new Figure that it returns."""
     from matplotlib.collections import LineCollection
 
     fig, ax = plt.subplots(figsize=(7, 4.8)) if ax is None else (None, ax)
@@ -443,9 +443,11 @@ def plot_stability_chart(ds: xr.Dataset, title: str = "", ax=None):
     ax.plot(w[side == 0], p[side == 0], "k^", ms=6, label="tip: the zone closes", zorder=3)
     if ds.sizes.get("check", 0):
         ok = ds["check_agrees"].values
-        for agrees, face in ((True, "k"), (False, "none")):
-            ax.plot(ds["check_omega"].values[ok == agrees] / ref, ds["check_parameter"].values[ok == agrees], "s",
-                    mfc=face, mec="k", ms=6, zorder=0, label=f"monodromy check {'agrees' if agrees else 'disagrees'}")
+        for agrees, style in ((True, dict(marker="s", mfc="none", mec="k")), (False, dict(marker="X", color="r"))):
+            if (ok == agrees).any():
+                ax.plot(ds["check_omega"].values[ok == agrees] / ref, ds["check_parameter"].values[ok == agrees],
+                        ls="none", ms=8, zorder=4, label=f"monodromy check {'agrees' if agrees else 'disagrees'}",
+                        **style)
     ax.set(xlabel="ω [rad/s]" if unit == "rad/s" else f"ω / {unit.replace('omega', 'ω')}",
            ylabel=str(ds.attrs["parameter_name"]).replace("alpha", "α").replace("zeta", "ζ"),
            xlim=ds["omega_grid"].values[[0, -1]] / ref, ylim=ds["parameter_grid"].values[[0, -1]])

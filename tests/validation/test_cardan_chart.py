@@ -4,9 +4,10 @@ four boundaries equal the speed sweep's bisection (0.6447-0.6780 and 0.7827-0.91
 omega/omega_b, README) and a bisection at pi/6 itself, with the same types, and the
 monodromy matrix puts a multiplier on the unit circle there; followed further down, the
 first zone closes at a tip (alpha = 0.3312) that the monodromy confirms, narrowing
-monotonically on the way. The slow test follows both zones to their tips at two dampings:
-the misalignment at which a zone closes scales as damping^(1/k) for a zone of order k in
-the excitation (width ~ alpha^k undamped), k = 2 for the first zone and 1 for the second."""
+monotonically on the way. The slow test follows both zones to their tips at several
+dampings: the misalignment at which a zone closes scales as damping^(1/k) for a zone of
+order k in the excitation (undamped width ~ alpha^k, and a zone opens where that width
+exceeds one proportional to the damping), k = 2 for the first zone and 1 for the second."""
 
 import numpy as np
 import pytest
@@ -77,8 +78,15 @@ def _tips(damping, window, grid):
 
 @pytest.mark.slow
 def test_zones_close_as_alpha_falls_at_damping_to_the_power_one_over_their_order():
-    """alpha_tip(zeta) ~ zeta^(1/k): k = log 4 / log(alpha_tip(0.01) / alpha_tip(0.0025))."""
-    first = [_tips(z, (0.45, 0.78), np.linspace(0.1, np.pi / 4, 8)) for z in (0.01, 0.0025)]
-    second = [_tips(z, (0.80, 0.99), np.linspace(0.002, 0.2, 8)) for z in (0.01, 0.0025)]
-    orders = [np.log(4.0) / np.log(t[0][0] / t[1][0]) for t in (first, second)]
-    np.testing.assert_allclose(orders, [2.0, 1.0], rtol=0.1)
+    """k = log 4 / log(alpha_tip(zeta) / alpha_tip(zeta / 4)). Measured: the second zone
+    0.9995 (tips 0.027563, 0.0068863 at zeta = 0.01, 0.0025): first order, its width ~ alpha;
+    the first zone 2.21 (zeta = 0.01 / 0.0025, tips 0.33117, 0.17702) and 2.07 (0.0025 /
+    0.000625, tip 0.090561): second order, approached as the tips fall (the excitation is
+    tan(alpha) sqrt(1 - sin^2 alpha cos^2 theta), linear in alpha only asymptotically)."""
+    grid = np.linspace(0.05, np.pi / 4, 8)
+    first = [_tips(z, (0.45, 0.735), grid)[0] for z in (0.01, 0.0025, 0.000625)]
+    second = [_tips(z, (0.80, 0.99), np.linspace(0.002, 0.2, 8))[0] for z in (0.01, 0.0025)]
+    k1 = [np.log(4.0) / np.log(a / b) for a, b in zip(first[:-1], first[1:])]
+    k2 = np.log(4.0) / np.log(second[0] / second[1])
+    assert abs(k1[1] - 2.0) < abs(k1[0] - 2.0) < 0.25
+    assert abs(k2 - 1.0) < 1e-2
