@@ -72,7 +72,7 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
     if spec.kind == "chart":  # two parameter values, the top 5 % of the range: one step, one check per boundary
         small = tmp_path / path.name
         start = float(0.95 * spec.parameter_grid[-1] + 0.05 * spec.parameter_grid[0])
-        text = re.sub(r"start = [0-9.e-]+, stop = ([0-9.e-]+), num = \d+ }", rf"start = {start!r}, stop = \1, num = 2 }",
+        text = re.sub(r"start = [0-9.e-]+, stop = ([0-9.e-]+), num = \d+ }", rf"start = {start!r}, stop = \1, num = 2 }}",
                       path.read_text(), count=1)
         small.write_text(re.sub(r"(?m)^checks = \d+", "checks = 1", text))
         code = main(["sweep", str(small), "--out", str(out), "-q"])
