@@ -182,7 +182,7 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
     when that file is current (:mod:`periodyn.studies.cache`), else computed and written
     (a file made otherwise is replaced).
 
-    A speed sweep, transient or Campbell study gives its xarray Dataset; a continuation
+    A speed sweep, transient, Campbell or chart study gives its xarray Dataset; a continuation
     study its branches ({"frequency": Branch, ...}). Relative directories are taken from
     the project root (the folder holding ``sweeps/``). Used by the figure scripts, which
     only read results and draw.
