@@ -39,7 +39,7 @@ _PUBLIC = {
     "continuation": "arclength.entry", "ContinuationOptions": "arclength.driver", "Branch": "arclength.branch",
     "SpecialPoint": "arclength.branch", "load_branch": "arclength.branch", "switch_branch": "arclength.switching",
     "switch_period_doubling": "arclength.switching", "confirm_special_points": "arclength.confirm",
-    "load": "results",
+    "load": "results", "stability_chart": "stability.charts", "ChartOptions": "stability.chart_data",
     "cardan_shaft": "examples.cardan",
 }
 _SUBMODULES = ("examples",)

@@ -30,6 +30,7 @@ _EPILOG = """examples:
   periodyn sweep sweeps/dae_rod_pendulum.toml --plot results/rod.png   # a continuation study
   periodyn sweep sweeps/slider_crank_transient.toml     # a transient from rest at one speed
   periodyn sweep sweeps/rotor_campbell.toml --plot results/campbell.png   # a rotor's Campbell diagram
+  periodyn sweep sweeps/cardan_chart.toml --plot results/chart.png   # stability boundaries over a parameter
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
   periodyn warmup                                       # compile the kernels once after install
@@ -75,7 +76,8 @@ def build_parser() -> argparse.ArgumentParser:
     sw.add_argument("file", type=Path, help="study file: a speed sweep ([sweep] table), e.g. sweeps/pendulum.toml, "
                                             "a continuation study ([continuation]), e.g. sweeps/dae_rod_pendulum.toml, "
                                             "a transient ([transient]), e.g. sweeps/slider_crank_transient.toml, or "
-                                            "a Campbell diagram ([campbell]), e.g. sweeps/rotor_campbell.toml")
+                                            "a Campbell diagram ([campbell]), e.g. sweeps/rotor_campbell.toml, or a stability "
+                                            "chart ([chart]), e.g. sweeps/cardan_chart.toml")
     sw.add_argument("--omega", type=_omega_range, metavar="START:STOP:NUM",
                     help="replace the file's speeds by NUM speeds from START to STOP, in the file's omega unit "
                          "(a continuation study takes START:STOP as its range and ignores NUM; a Campbell "
@@ -150,7 +152,7 @@ def _cmd_sweep(args) -> int:
     description = " ".join(spec.description.split())
     title = f"{spec.name}: {description}" if description else spec.name
     kind = {"sweep": _cmd_speed_sweep, "continuation": _cmd_study, "transient": _cmd_transient,
-            "campbell": _cmd_campbell}[spec.kind]
+            "campbell": _cmd_campbell, "chart": _cmd_chart}[spec.kind]
     lines, figure = kind(args, spec, out, title)
     if args.plot:
         from .plotting import save_figure
@@ -244,6 +246,17 @@ def _cmd_campbell(args, spec, out: Path, title: str):
     return [f"{spec.example}: Campbell diagram, {ds.sizes['speed']} speeds x {ds.sizes['mode']} modes{grid}, "
             f"{campbell_summary(ds, response)}, {elapsed:.1f} s; wrote {out}"], \
         lambda: plot_campbell(ds, title, unbalance=response)
+
+
+def _cmd_chart(args, spec, out: Path, title: str):
+    from .plotting import plot_stability_chart
+    from .studies.chart import chart_summary
+
+    _one_process(args, spec, "a stability chart", omega=False)
+    ds, elapsed = _run(spec, out, resume=args.resume)
+    return [f"{spec.example}: stability chart over {spec.parameter_name}, {ds.sizes['boundary']} boundaries, "
+            f"{ds.attrs['evaluations']} exponent evaluations, {ds.attrs['builds']} models, {elapsed:.1f} s; "
+            f"wrote {out}", *chart_summary(ds)], lambda: plot_stability_chart(ds, title)
 
 
 # ----------------------------------------------------------------------------- scripts

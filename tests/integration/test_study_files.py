@@ -34,7 +34,7 @@ def small_study(path: Path, folder: Path, harmonics: int = 3, max_points: int = 
 
 def test_every_shipped_file_is_covered():
     kinds = {load_sweep_file(p).kind for p in FILES}
-    assert kinds == {"sweep", "continuation", "transient", "campbell"}
+    assert kinds == {"sweep", "continuation", "transient", "campbell", "chart"}
 
 
 @pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
@@ -68,6 +68,17 @@ def test_shipped_file_runs_at_reduced_size(path, tmp_path, capsys):
         assert np.isfinite(ds["outputs"].values).all()
         assert main(["sweep", str(small), "--out", str(out), "--omega", "1:2:3"]) == 2  # one speed: refused
         assert "transient study at one speed" in capsys.readouterr().err
+        return
+    if spec.kind == "chart":  # two parameter values, the top 5 % of the range: one step, one check per boundary
+        small = tmp_path / path.name
+        start = float(0.95 * spec.parameter_grid[-1] + 0.05 * spec.parameter_grid[0])
+        text = re.sub(r"start = [0-9.e-]+, stop = ([0-9.e-]+), num = \d+ }", rf"start = {start!r}, stop = \1, num = 2 }}",
+                      path.read_text(), count=1)
+        small.write_text(re.sub(r"(?m)^checks = \d+", "checks = 1", text))
+        code = main(["sweep", str(small), "--out", str(out), "-q"])
+        assert code == 0, capsys.readouterr().err
+        ds = load(out)
+        assert ds.sizes["parameter_grid"] == 2 and ds.sizes["boundary"] >= 1 and ds["check_agrees"].values.all()
         return
     small = small_study(path, tmp_path)
     a, b = spec.omega

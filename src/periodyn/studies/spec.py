@@ -12,6 +12,7 @@ table              what                                        module
 ``[continuation]`` branches of a DAE (arc length, or speeds)   :mod:`periodyn.studies.continuation`
 ``[transient]``    the motion from rest at one speed           :mod:`periodyn.studies.transient`
 ``[campbell]``     rotor eigenvalues over spin speeds          :mod:`periodyn.studies.campbell`
+``[chart]``        stability boundaries over a parameter       :mod:`periodyn.studies.chart`
 =================  ==========================================  ================================
 
 ``[model]`` is one of::
@@ -42,6 +43,7 @@ from typing import Callable
 from .. import examples
 from . import cache
 from .campbell import CampbellSpec, parse_campbell, run_campbell
+from .chart import ChartSpec, parse_chart, run_chart
 from .checks import FIXED_UNITS, Checker, builder_parameters, parameter_check
 from .continuation import StudySpec, parse_continuation, run_study
 from .elements import MODEL_FORM_KEYS, check_element_form, element_model, element_rotor
@@ -49,15 +51,17 @@ from .sweep import MAX_HARMONICS, SweepPlan, SweepSpec, parse_sweep_table, run_s
 from .transient import TransientSpec, parse_transient, run_transient
 from ..errors import InputError
 
-__all__ = ["SweepSpec", "StudySpec", "TransientSpec", "CampbellSpec", "SweepPlan", "load_sweep_file", "parse_sweep",
+__all__ = ["SweepSpec", "StudySpec", "TransientSpec", "CampbellSpec", "ChartSpec", "SweepPlan", "load_sweep_file", "parse_sweep",
            "project_root", "known_examples", "element_model", "run", "ensure", "ensure_result", "FIXED_UNITS",
            "MAX_HARMONICS", "KINDS"]
 
 #: The study kinds: table name -> (parser of the table, runner).
 KINDS = {"sweep": (parse_sweep_table, run_sweep), "continuation": (parse_continuation, run_study),
-         "transient": (parse_transient, run_transient), "campbell": (parse_campbell, run_campbell)}
+         "transient": (parse_transient, run_transient), "campbell": (parse_campbell, run_campbell),
+         "chart": (parse_chart, run_chart)}
 _WHAT = {"sweep": "a speed sweep", "continuation": "a continuation study of a DAE example",
-         "transient": "the motion from rest at one speed", "campbell": "a rotor's Campbell diagram"}
+         "transient": "the motion from rest at one speed", "campbell": "a rotor's Campbell diagram",
+         "chart": "stability boundaries over a parameter"}
 
 
 def project_root() -> Path:
@@ -152,8 +156,8 @@ def parse_sweep(text: str, source: str = "<sweep file>", name: str = "sweep"):
     if kind == "campbell":
         return parse_campbell(check, data[kind], **common, accepted=accepted, settable=settable,
                               rotor_file=rotor_file)
-    if kind == "sweep":
-        return parse_sweep_table(check, data[kind], **common, accepted=accepted, settable=settable)
+    if kind in ("sweep", "chart"):
+        return KINDS[kind][0](check, data[kind], **common, accepted=accepted, settable=settable)
     return KINDS[kind][0](check, data[kind], **common)
 
 
@@ -183,7 +187,7 @@ def ensure(name: str, results_dir="results", sweeps_dir="sweeps", *, workers: in
     when that file is current (:mod:`periodyn.studies.cache`), else computed and written
     (a file made otherwise is replaced).
 
-    A speed sweep, transient or Campbell study gives its xarray Dataset; a continuation
+    A speed sweep, transient, Campbell or chart study gives its xarray Dataset; a continuation
     study its branches ({"frequency": Branch, ...}). Relative directories are taken from
     the project root (the folder holding ``sweeps/``). Used by the figure scripts, which
     only read results and draw.

@@ -26,7 +26,7 @@ modes = 4
 
 def test_every_shipped_file_parses_with_the_one_entry_and_every_kind_ships():
     kinds = {path.stem: load_sweep_file(path).kind for path in FILES}
-    assert set(kinds.values()) == set(KINDS) == {"sweep", "continuation", "transient", "campbell"}
+    assert set(kinds.values()) == set(KINDS) == {"sweep", "continuation", "transient", "campbell", "chart"}
     assert kinds["rotor_campbell"] == "campbell"
     assert load_sweep_file(project_root() / "sweeps" / "pendulum.toml").boundaries
 
