@@ -29,6 +29,7 @@ _PUBLIC = {
     "TruncationWarning": "stability.floquet",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",
     "ihb": "nonlinear.ihb_solver", "shooting": "nonlinear.shooting_solver", "element_outputs": "nonlinear.elements",
+    "IHBOptions": "nonlinear.options", "ShootingOptions": "nonlinear.options", "IntegrationOptions": "numerics.options",
     "solve_point": "speeds", "campbell": "rotor.diagram", "Unbalance": "rotor.response",
     "unbalance_response": "rotor.response",
     # solutions
