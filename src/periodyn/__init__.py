@@ -38,6 +38,7 @@ _PUBLIC = {
     # studies: sweeps, continuation, result files
     "sweep": "engine.front", "ExecutionOptions": "engine.options", "OutputOptions": "engine.options",
     "continuation": "arclength.entry", "ContinuationOptions": "arclength.driver", "Branch": "arclength.branch",
+    "Event": "arclength.events", "EventPoint": "arclength.events",
     "SpecialPoint": "arclength.branch", "load_branch": "arclength.branch", "switch_branch": "arclength.switching",
     "switch_period_doubling": "arclength.switching", "confirm_special_points": "arclength.confirm",
     "load": "results",

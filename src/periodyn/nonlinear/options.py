@@ -53,7 +53,8 @@ class ShootingOptions:
         try:
             set_("cyclic", tuple(cyclic))
         except TypeError:
-            raise InputError(f"{own}.cyclic must be names or indices of angle coordinates, got {self.cyclic!r}") from None
+            raise InputError(f"{own}.cyclic must be names or indices of angle coordinates, "
+                             f"got {self.cyclic!r}") from None
         if not isinstance(self.integration, IntegrationOptions):
             raise InputError(f"{own}.integration must be a periodyn.IntegrationOptions, got "
                              f"{type(self.integration).__name__}")
@@ -112,7 +113,8 @@ def shooting_options(options: ShootingOptions | None, values: dict) -> ShootingO
         warnings.warn("shooting(method=...) is deprecated and goes in the next release; pass "
                       f"integrator={method!r}", DeprecationWarning, stacklevel=3)
         if values.setdefault("integrator", method) != method:
-            raise InputError(f"integrator={values['integrator']!r} and method={method!r} disagree; pass only integrator=")
+            raise InputError(f"integrator={values['integrator']!r} and method={method!r} disagree; "
+                             "pass only integrator=")
     return merge_options(ShootingOptions, options, values, "shooting", _SHOOTING_ALIASES)
 
 

@@ -86,14 +86,17 @@ class IntegrationOptions:
     def __post_init__(self):
         if self.integrator not in INTEGRATORS:
             raise InputError(f"IntegrationOptions.integrator must be one of {INTEGRATORS}, got {self.integrator!r}: "
-                             "'DOP853' for non-stiff systems, 'Radau'/'BDF' or 'implicit' (element models) for stiff ones")
+                             "'DOP853' for non-stiff systems, 'Radau'/'BDF' or 'implicit' (element models) for "
+                             "stiff ones")
         for name in ("rtol", "atol"):
             object.__setattr__(self, name, check_positive("IntegrationOptions", name, getattr(self, name),
                                                           "give a tolerance such as 1e-10"))
         if not (isinstance(self.max_step, (int, float, np.integer, np.floating)) and self.max_step > 0):
-            raise InputError(f"IntegrationOptions.max_step must be a step in s > 0 (inf: no limit), got {self.max_step!r}")
+            raise InputError("IntegrationOptions.max_step must be a step in s > 0 (inf: no limit), got "
+                             f"{self.max_step!r}")
         object.__setattr__(self, "max_step", float(self.max_step))
         steps = check_count("IntegrationOptions", "steps", self.steps, 8, "give an even number of steps per period")
         if steps % 2:
-            raise InputError(f"IntegrationOptions.steps must be even (the map halves it), got {steps}; give {steps + 1}")
+            raise InputError(f"IntegrationOptions.steps must be even (the map halves it), got {steps}; "
+                             f"give {steps + 1}")
         object.__setattr__(self, "steps", steps)
