@@ -108,5 +108,5 @@ def test_boundaries_old_method_keyword_warns_and_keeps_its_meaning():
         old = stability_boundaries(model.at, grid, 4, method="magnus", xtol=1e-8)
     new = stability_boundaries(model.at, grid, 4, stability="magnus", xtol=1e-8)
     assert [(b.omega, b.kind) for b in old] == [(b.omega, b.kind) for b in new]
-    with pytest.raises(InputError, match="disagree"):
+    with pytest.raises(InputError, match="disagree"), pytest.warns(DeprecationWarning):
         stability_boundaries(model.at, grid, 4, stability="dense", method="magnus")
