@@ -93,7 +93,7 @@ def _adaptive(system, lin_model, w):
 
 def _implicit(system, lin_model, w):
     guess = periodyn.periodic_solution(lin_model.at(w), 12)
-    return periodyn.shooting(system, w, initial=guess, method="implicit")
+    return periodyn.shooting(system, w, initial=guess, integrator="implicit")
 
 
 ARMS = {"DOP853 from IHB": _adaptive, "implicit from HB": _implicit}

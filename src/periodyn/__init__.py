@@ -29,6 +29,7 @@ _PUBLIC = {
     "TruncationWarning": "stability.floquet",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",
     "ihb": "nonlinear.ihb_solver", "shooting": "nonlinear.shooting_solver", "element_outputs": "nonlinear.elements",
+    "IHBOptions": "nonlinear.options", "ShootingOptions": "nonlinear.options", "IntegrationOptions": "numerics.options",
     "solve_point": "speeds", "campbell": "rotor.diagram", "Unbalance": "rotor.response",
     "unbalance_response": "rotor.response",
     # solutions
@@ -37,6 +38,7 @@ _PUBLIC = {
     # studies: sweeps, continuation, result files
     "sweep": "engine.front", "ExecutionOptions": "engine.options", "OutputOptions": "engine.options",
     "continuation": "arclength.entry", "ContinuationOptions": "arclength.driver", "Branch": "arclength.branch",
+    "Event": "arclength.events", "EventPoint": "arclength.events",
     "SpecialPoint": "arclength.branch", "load_branch": "arclength.branch", "switch_branch": "arclength.switching",
     "switch_period_doubling": "arclength.switching", "confirm_special_points": "arclength.confirm",
     "load": "results", "stability_chart": "stability.charts", "ChartOptions": "stability.chart_data",

@@ -356,7 +356,7 @@ def rheo_linear_dae(system, *, name: str = "rheo_linear"):
         return -Qt, -Pt
 
     dae = ode(system.n, force, force_jacobians, system.coordinate_names, name)
-    dae.rheo_linear = system  # for shooting(..., method="implicit")
+    dae.rheo_linear = system  # for shooting(..., integrator="implicit")
     return dae
 
 

@@ -69,8 +69,8 @@ class PeriodicSolution:
     nu (orbit period 2 pi nu / omega); lambda_harmonics: (2m+1, n_c) constraint forces of a
     DAE (N or N m), None otherwise; stability: the orbit's FloquetExponents, or None when
     not computed; parameters: model parameters the solution belongs to;
-    discretization_error: of a fixed-step shooting orbit (``shooting(..., method=
-    "implicit")``), the Richardson estimate of the relative error of its N-step harmonics,
+    discretization_error: of a fixed-step shooting orbit (``shooting(...,
+    integrator="implicit")``), the Richardson estimate of the relative error of its N-step harmonics,
     a bound of the error of the extrapolated harmonics it returns
     (:mod:`periodyn.nonlinear.implicit`); None for the other methods.
     """

@@ -224,7 +224,7 @@ def plot_branch(ax, branch, coordinate: int | None, label: str = "", color: str 
         ax.plot(xs[a:b + 1], amp[a:b + 1], "-" if flag else "--", color=color,
                 label=f"{label} {'stable' if flag else 'unstable'}".strip())
     for sp in branch.special_points:
-        m, c = _MARK[sp.type]
+        m, c = _MARK.get(sp.type, ("*", "tab:orange"))  # a user event
         ordinate = sp.amplitude[coordinate] if y is None else _special_abscissa(branch, sp, amp)
         ax.plot([_special_abscissa(branch, sp, xs)], [ordinate], m, color=c, mfc="none", ms=8, label=sp.type)
     unique_legend(ax, fontsize=7)

@@ -76,7 +76,7 @@ def cardan_zone_edges() -> dict:
     grid = np.array([0.64, 0.65, 0.675, 0.685, 0.78, 0.79, 0.91, 0.92])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", TruncationWarning)
-        found = stability_boundaries(model.at, grid * wb, 4, method="dense", xtol=1e-11, truncation="warn")
+        found = stability_boundaries(model.at, grid * wb, 4, stability="dense", xtol=1e-11, truncation="warn")
     return {"omega_b": [wb], "grid": grid.tolist(), "omega_over_omega_b": [b.omega / wb for b in found],
             "kind": [b.kind for b in found], "becomes_stable": [b.becomes_stable for b in found]}
 

@@ -39,7 +39,7 @@ def _compare(shaft, ratio):
     w = ratio * linear.metadata["omega_b"]
     system = linear.at(w)
     hb = periodyn.periodic_solution(system, 12)
-    orbit = periodyn.shooting(nonlinear, w, initial=hb, method="implicit")
+    orbit = periodyn.shooting(nonlinear, w, initial=hb, integrator="implicit")
     assert orbit.residual < 1e-9 and orbit.iterations <= 8
     assert orbit.discretization_error < 1e-3
     lin_max = _linear_maxima(system, hb)

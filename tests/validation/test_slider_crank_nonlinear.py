@@ -40,7 +40,7 @@ def test_shooting_confirms_the_ihb_orbit(orbits):
 
 
 def test_implicit_shooting_agrees_with_adaptive_shooting_within_its_error_estimate(orbits):
-    """method="implicit" (trapezoidal map, Richardson-extrapolated, started from the
+    """integrator="implicit" (trapezoidal map, Richardson-extrapolated, started from the
     linearized harmonic balance) against DOP853 shooting at rtol 1e-11: harmonics within
     the reported error estimate (measured 0.089 of it at 256 steps, 0.022 at 512: fourth
     order, ratio 14.9), multipliers against DOP853's monodromy and the Hill exponents of
@@ -52,7 +52,7 @@ def test_implicit_shooting_agrees_with_adaptive_shooting_within_its_error_estima
     assert_same_spectrum(hill.multipliers, shot.multipliers, 1e-9)
     errors = []
     for steps, mu_tol in ((256, 5e-3), (512, 3e-4)):
-        sol = periodyn.shooting(system, OMEGA, initial=start, method="implicit", steps=steps)
+        sol = periodyn.shooting(system, OMEGA, initial=start, integrator="implicit", steps=steps)
         ref = shot.harmonics[shot.m - sol.m:shot.m + sol.m + 1]
         errors.append(np.abs(sol.harmonics - ref).max() / np.abs(ref).max())
         assert errors[-1] < 0.15 * sol.discretization_error

@@ -18,7 +18,7 @@ WINDOW = (203.0, 209.0)
 def branch():
     system = slider_crank_nonlinear(0.02)
     start = periodyn.periodic_solution(slider_crank(0.02, 64).at(WINDOW[0]), 12)
-    first = periodyn.shooting(system, WINDOW[0], initial=start, method="implicit")
+    first = periodyn.shooting(system, WINDOW[0], initial=start, integrator="implicit")
     return system, periodyn.continuation(system, WINDOW, 12, method="shooting", initial=first, ds_max=0.05)
 
 

@@ -1,4 +1,4 @@
-"""Fixed-step implicit shooting (``shooting(..., method="implicit")``): the discrete
+"""Fixed-step implicit shooting (``shooting(..., integrator="implicit")``): the discrete
 monodromy of the trapezoidal map against exact monodromies (second-order convergence),
 against finite differences of the map itself on the non-linear slider-crank, and the
 periodic response against harmonic balance within the reported error estimate."""
@@ -60,7 +60,7 @@ def test_forced_oscillator_orbit_matches_harmonic_balance_within_the_error_estim
     exact = periodyn.periodic_solution(rl, 4)
     plain, extrapolated = [], []
     for steps in (32, 64, 128):
-        sol = periodyn.shooting(system, W, method="implicit", steps=steps)
+        sol = periodyn.shooting(system, W, integrator="implicit", steps=steps)
         ref = np.zeros_like(sol.harmonics)
         ref[sol.m - 4:sol.m + 5] = exact.harmonics
         scale = np.abs(ref).max()
@@ -85,11 +85,11 @@ def test_slider_crank_discrete_monodromy_equals_finite_differences_of_the_map():
 
 def test_implicit_shooting_refuses_other_systems_and_odd_steps():
     with pytest.raises(InputError, match="element models"):
-        periodyn.shooting(periodyn.examples.pendulum_nonlinear(), 1.0, method="implicit")
+        periodyn.shooting(periodyn.examples.pendulum_nonlinear(), 1.0, integrator="implicit")
     with pytest.raises(InputError, match="even"):
-        periodyn.shooting(rheo_linear_dae(_oscillator()), W, method="implicit", steps=33)
-    with pytest.raises(InputError, match="method"):
-        periodyn.shooting(rheo_linear_dae(_oscillator()), W, method="euler")
+        periodyn.shooting(rheo_linear_dae(_oscillator()), W, integrator="implicit", steps=33)
+    with pytest.raises(InputError, match="integrator"):
+        periodyn.shooting(rheo_linear_dae(_oscillator()), W, integrator="euler")
 
 
 def test_implicit_shooting_that_does_not_converge_is_reported():
@@ -99,5 +99,5 @@ def test_implicit_shooting_that_does_not_converge_is_reported():
     from periodyn.examples.elliptic_pendulum import elliptic_pendulum_model
 
     with pytest.raises(ConvergenceError) as err:
-        periodyn.shooting(elliptic_pendulum_model(), 0.95 * np.sqrt(9.81), method="implicit", max_iter=1, tol=1e-14)
+        periodyn.shooting(elliptic_pendulum_model(), 0.95 * np.sqrt(9.81), integrator="implicit", max_iter=1, tol=1e-14)
     assert err.value.iterations == 1 and np.isfinite(err.value.residual) and err.value.residual > 1e-14

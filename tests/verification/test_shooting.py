@@ -46,7 +46,7 @@ def test_variational_monodromy_equals_finite_differences_and_hill(slider_rod):
 
 def test_radau_with_analytic_jacobian_gives_the_same_orbit_and_multipliers(slider_rod):
     s, _, sh = slider_rod
-    radau = shooting(s, 6.0, initial=sh, tol=1e-10, method="Radau", rtol=1e-10)
+    radau = shooting(s, 6.0, initial=sh, tol=1e-10, integrator="Radau", rtol=1e-10)
     t = np.linspace(0, sh.period, 7)
     assert np.abs(radau(t) - sh(t)).max() < 1e-8
     np.testing.assert_allclose(np.sort_complex(radau.multipliers), np.sort_complex(sh.multipliers), atol=1e-7)

@@ -56,7 +56,8 @@ __all__ = ["SpecialPoint", "Branch", "load_branch"]
 class SpecialPoint:
     """A bifurcation between branch points ``index`` and ``index + 1``.
 
-    type: "fold", "branch-point", "period-doubling" or "neimark-sacker"; omega (rad/s) and
+    type: "fold", "branch-point", "period-doubling", "neimark-sacker" (``events.SPECIAL_POINTS``)
+    or the name of a user ``Event``; omega (rad/s) and
     parameter at the refined location (linear interpolation when refinement failed);
     multiplier: the critical multiplier (nan for folds); amplitude (n,) half peak-to-peak
     there; solution: the orbit there (None when refinement failed); multipliers: its
@@ -65,7 +66,8 @@ class SpecialPoint:
     or when refinement failed); test_values (3,): the test function at the bracketing
     branch points and at the located point (dp/ds for folds, sign(det(M - I)) min|mu - 1|
     for branch points, |mu| - 1 of the multiplier of the crossing kind nearest the unit circle
-    otherwise; None when refinement failed); confirmed: the
+    for the other built-in points, the event's test for a user event; None when refinement
+    failed); confirmed: the
     verdict of ``check_truncation`` / ``confirm_special_points`` (None when not checked or
     not decided), check: its reason; defect: the orbit defect there (``orbit_defect``,
     dimensionless; nan when not checked).

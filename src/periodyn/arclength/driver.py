@@ -11,18 +11,17 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
-import scipy.linalg as sla
 
 from ..nonlinear.ihb_solver import IHBProblem, ihb
 from ..stability.methods import check_method
-from ..errors import ConvergenceError, InputError
+from ..errors import InputError
 from ..nonlinear.jacobian_reuse import ChordEquations
 from ..nonlinear.elements import as_dae
-from ..numerics.newton_iteration import lu_factor, newton
 from ..nonlinear.implicit import STEPS, ImplicitProblem
 from ..nonlinear.shooting_solver import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
-from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
+from .events import (KINDS, SPECIAL_POINTS, check_events, classify, nearest_of_kind, null_vector, refine_crossing,
+                     refine_fold, same_point)
 from .palc import Arc, first_point, trace
 
 __all__ = ["ContinuationOptions", "trace_branch"]
@@ -48,6 +47,7 @@ class ContinuationOptions:
     shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
     models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
     shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
+    events: user events (``periodyn.Event``), located and recorded among the special points.
     """
 
     ds: float = 0.02
@@ -63,8 +63,10 @@ class ContinuationOptions:
     confirm: bool | str = "truncation"
     shooting_method: str = "auto"
     shooting_steps: int = STEPS
+    events: tuple = ()
 
     def __post_init__(self):
+        object.__setattr__(self, "events", check_events(self.events))
         if not (0 < self.ds_min <= self.ds_max) or self.ds <= 0:
             raise InputError(f"steps must satisfy 0 < ds_min <= ds_max and ds > 0, got ds={self.ds}, "
                              f"ds_min={self.ds_min}, ds_max={self.ds_max}")
@@ -234,6 +236,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
     sols = [record(pts[0], refine=True)]  # precise: a switched branch starts on its special point
+    tests = [[ev.value(sols[0], pts[0].p) for ev in opts.events]]  # user event tests at each point
     specials, status, loose, unknowns = [], "", set(), {}
     bounds = (min(p0, p1), max(p0, p1)) if tangent is None else None  # a switched branch may turn back past its start
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points,
@@ -248,6 +251,10 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         for sp, unbracketed, X in _special_points(arc, disc, at, pts[-2], pts[-1], sols[-2], sols[-1], len(pts) - 2):
             unknowns[id(sp)] = X
             _add_special(specials, sp, [pt.p for pt in pts], unbracketed, loose)
+        tests.append([ev.value(sols[-1], item.p) for ev in opts.events])
+        for sp, X in _user_points(arc, disc, at, opts.events, pts[-2:], sols[-2:], tests[-2:], len(pts) - 2):
+            unknowns[id(sp)] = X
+            specials.append(sp)
     options = dict(method=method, harmonics=harmonics, system=system, tol=disc.tol,
                    special_unknowns=tuple(unknowns[id(sp)] for sp in specials),
                    samples=getattr(disc.prob, "p", None), **{f.name: getattr(opts, f.name) for f in fields(opts)
@@ -313,13 +320,15 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
     out = []
     for typ, crit, s_lin in classify(a.t[arc.N], b.t[arc.N], sol_a.multipliers, sol_b.multipliers):
         if typ == "fold":
-            found = _refine_fold(arc, a, b)
+            found = refine_fold(arc, a, b, _FTOL["fold"])
         else:
-            test = branch_test if typ == "branch-point" else (lambda mu, typ=typ: crossing_test(mu, typ))
+            test = SPECIAL_POINTS[typ]
             bracket = (test(sol_a.multipliers), test(sol_b.multipliers))
             if k == 0 and abs(bracket[0]) < _AT_START:
                 continue  # the start is this special point itself (a branch switched from it)
-            found = _refine_crossing(arc, disc, at, a, b, test, bracket)
+            value = lambda X, p, test=test: test(disc.exponents(X, *at(p), refine=True).multipliers)  # noqa: E731
+            found = refine_crossing(lambda X, p: disc.exact_equations(X, *at(p)), arc.tol, a, b, value, bracket,
+                                    _FTOL["crossing"])
         if found is None:  # refinement failed: linear interpolation, no orbit
             p = a.p + s_lin * (b.p - a.p)
             amp = sol_a.amplitude() + s_lin * (sol_b.amplitude() - sol_a.amplitude())
@@ -333,68 +342,35 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
             mu = sol.multipliers
             crit = complex(mu[int(np.argmin(np.abs(mu - 1)))]) if typ == "branch-point" else nearest_of_kind(
                 mu, KINDS[typ])
-        vec = _null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
+        vec = null_vector(disc.equations(X, *at(p))[1]) if typ in ("fold", "branch-point") else None
         out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, sol.amplitude(), sol, vec,
                                  np.asarray(tests, float)), False, np.array(X, float)))
     return out
 
 
-def _null_vector(J, sweeps: int = 4) -> np.ndarray:
-    """Unit null vector of the (nearly) singular Jacobian J at a fold or branch point, by
-    inverse iteration with one factorization of J (the critical direction in the unknowns)."""
-    solve = lu_factor(J)
-    v = np.ones(J.shape[0]) / np.sqrt(J.shape[0])
-    for _ in range(sweeps):
-        v = solve(v)
-        v /= np.linalg.norm(v)
-    return v * np.sign(v[int(np.argmax(np.abs(v)))])
+def _user_points(arc, disc, at, events, points, sols, tests, k) -> list[tuple[SpecialPoint, np.ndarray | None]]:
+    """Special points of the user events whose tests (``tests``: their values at the two
+    accepted ``points`` of index k, k + 1, orbits ``sols``) change sign there, located by
+    ``events.refine_crossing`` (linear interpolation without an orbit when it fails), each
+    with the unknowns there."""
+    (a, b), (sol_a, sol_b) = points, sols
 
+    def orbit(X, p, rn=0.0):
+        return disc.solution(X, *at(p), rn, 0, disc.exponents(X, *at(p)))
 
-def _refine_fold(arc, a, b):
-    """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
-    by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
-    L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
-    ta = a.t / arc.norm(a.t)  # unit in the arc's present scale (it may have grown since a)
-
-    def g(s, *_):
-        try:
-            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True, start=a)
-        except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
-            return None
-        return pt.t[arc.N], pt
-
-    end = g(1.0)
-    if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
-        return None
-    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=_FTOL["fold"], stol=1e-12)
-    if res is None:
-        return None
-    pt = res[1]
-    return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
-
-
-def _refine_crossing(arc, disc, at, a, b, test, bracket):
-    """Parameter where the test function of the multipliers vanishes between a and b
-    (bracket: its values there; fixed-parameter Newton from the interpolated bracket
-    solutions); returns (X, p, residual, (test at a, b, there)) or None."""
-    def g(s, lo, hi):
-        (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
-        f = (s - sa) / (sb - sa) if sb != sa else 0.5
-        p = a.p + s * (b.p - a.p)
-        try:  # exact Jacobians: a fixed-parameter Newton far from the corrector's last point
-            res = newton(lambda X: disc.exact_equations(X, *at(p)), Xa + f * (Xb - Xa), tol=arc.tol, max_iter=12,
-                         label="special point", hint="")
-        except ConvergenceError:
-            return None
-        return test(disc.exponents(res.x, *at(p), refine=True).multipliers), (res.x, res.residual)
-
-    if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
-        return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
-    stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
-    res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)),
-                   ftol=_FTOL["crossing"], stol=stol, max_iter=30)
-    if res is None:
-        return None
-    s, (X, rn) = res
-    p = a.p + s * (b.p - a.p)
-    return X, p, rn, (bracket[0], bracket[1], test(disc.exponents(X, *at(p), refine=True).multipliers))
+    out = []
+    for ev, ga, gb in zip(events, *tests):
+        if not np.sign(ga) * np.sign(gb) < 0:
+            continue
+        found = refine_crossing(lambda X, p: disc.exact_equations(X, *at(p)), arc.tol, a, b,
+                                lambda X, p, ev=ev: ev.value(orbit(X, p), p), (ga, gb), ev.tol)
+        if found is None:
+            s = ga / (ga - gb)
+            p, amp = a.p + s * (b.p - a.p), sol_a.amplitude() + s * (sol_b.amplitude() - sol_a.amplitude())
+            out.append((SpecialPoint(ev.name, k, float(at(p)[0]), float(p), amplitude=amp), None))
+            continue
+        X, p, rn, values = found
+        sol = orbit(X, p, rn)
+        out.append((SpecialPoint(ev.name, k, float(at(p)[0]), float(p), complex("nan"), sol.amplitude(), sol, None,
+                                 np.asarray(values, float)), np.array(X, float)))
+    return out

@@ -11,17 +11,30 @@ point solved by the corrector), multiplier crossings fixed-parameter Newton solv
 g = :func:`crossing_test` (period doubling, Neimark-Sacker) or :func:`branch_test` (branch
 point). One bracket reports each type once: two multipliers of one kind leaving in one step
 have one refined location (the test function's root), so a second entry would repeat it.
+
+Registry (:data:`SPECIAL_POINTS`): the built-in special points by name with their test
+functions. Users add their own with :class:`Event` (``continuation(..., events=[Event(name,
+test)])``): ``test`` sees an :class:`EventPoint` at every branch point; where it changes sign
+between two consecutive points, the same refinement (fixed-parameter Newton solves, Illinois
+on the test) locates its root, recorded among the branch's special points with type ``name``.
 """
 
 from __future__ import annotations
 
-from typing import Callable
+from dataclasses import dataclass
+from functools import partial
+from typing import Any, Callable
 
 import numpy as np
+import scipy.linalg as sla
 
+from ..errors import ConvergenceError, InputError
+from ..numerics.newton_iteration import lu_factor, newton
 from ..stability.crossings import KINDS, classify_crossing, of_kind
 
-__all__ = ["KINDS", "branch_test", "classify", "crossing_test", "illinois", "of_kind", "same_point"]
+__all__ = ["Event", "EventPoint", "KINDS", "SPECIAL_POINTS", "branch_test", "check_events", "classify",
+           "crossing_test", "fold_test", "illinois", "null_vector", "of_kind", "refine_crossing", "refine_fold",
+           "same_point"]
 
 
 def _nearest(sel) -> complex:
@@ -58,6 +71,100 @@ def branch_test(mu) -> float:
     """
     d = np.asarray(mu) - 1.0
     return float(np.sign(np.prod(d / np.maximum(np.abs(d), 1e-300)).real) * np.min(np.abs(d)))
+
+
+def fold_test(tangent) -> float:
+    """Fold test function: dp/ds, the parameter (last) component of the branch tangent."""
+    return float(tangent[-1])
+
+
+#: the built-in special points: name -> test function (of the tangent for the fold, of the
+#: Floquet multipliers otherwise); ``classify`` finds their brackets, the driver refines them
+SPECIAL_POINTS: dict[str, Callable] = {
+    "fold": fold_test,
+    "branch-point": branch_test,
+    "period-doubling": partial(crossing_test, typ="period-doubling"),
+    "neimark-sacker": partial(crossing_test, typ="neimark-sacker"),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class EventPoint:
+    """What an event test sees: one orbit of the branch (a branch point, or a trial point of
+    the refinement).
+
+    omega: driving frequency, rad/s; parameter: the continued parameter's value (omega for a
+    frequency response); amplitude (n,): half peak-to-peak per coordinate; harmonics
+    (2H+1, n) complex, l = -H..H; multipliers: Floquet multipliers (None when stability is
+    not computed); solution: the PeriodicSolution (``solution(t)`` -> q (len(t), n),
+    ``solution.velocity(t)``, ``solution.mean``).
+    """
+
+    omega: float
+    parameter: float
+    amplitude: np.ndarray
+    harmonics: np.ndarray
+    multipliers: np.ndarray | None
+    solution: Any
+
+
+@dataclass(frozen=True, eq=False)
+class Event:
+    """A user continuation event: a special point of type ``name`` wherever ``test`` changes
+    sign between two consecutive branch points.
+
+    test(point: EventPoint) -> float, finite at every branch point; tol: |test| at which the
+    refinement stops (the test's units). Example: ``Event("amplitude 0.5", lambda pt:
+    pt.amplitude[0] - 0.5)``.
+    """
+
+    name: str
+    test: Callable[[EventPoint], float]
+    tol: float = 1e-9
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise InputError(f"Event name must be a non-empty string (the special point's type), got {self.name!r}")
+        if self.name in SPECIAL_POINTS:
+            raise InputError(f"Event name {self.name!r} is a built-in special point (located without an event); "
+                             "choose another name")
+        if not callable(self.test):
+            raise InputError(f"Event {self.name!r}: test must be a callable of the branch point returning a float, "
+                             f"got {type(self.test).__name__}")
+        if not (isinstance(self.tol, (int, float)) and np.isfinite(self.tol) and self.tol > 0):
+            raise InputError(f"Event {self.name!r}: tol must be a finite number > 0, got {self.tol!r}")
+
+    def value(self, solution, parameter: float) -> float:
+        """The test at the orbit ``solution`` (a PeriodicSolution) at parameter value ``parameter``;
+        InputError when it is not a finite float."""
+        point = EventPoint(float(solution.omega), float(parameter), solution.amplitude(), solution.harmonics,
+                           solution.multipliers, solution)
+        raw = self.test(point)
+        try:
+            v = float(raw)
+        except (TypeError, ValueError):
+            raise InputError(f"Event {self.name!r}: test must return a float, got {type(raw).__name__}") from None
+        if not np.isfinite(v):
+            raise InputError(f"Event {self.name!r}: test returned {v} at omega = {point.omega:.6g} rad/s; it must be "
+                             "finite at every branch point")
+        return v
+
+
+def check_events(events) -> tuple:
+    """``events`` as a tuple of :class:`Event` with distinct names, else InputError."""
+    if isinstance(events, Event):
+        events = (events,)
+    try:
+        events = tuple(events)
+    except TypeError:
+        raise InputError(f"events must be a list of periodyn.Event(name, test), got {type(events).__name__}") from None
+    for ev in events:
+        if not isinstance(ev, Event):
+            raise InputError(f"events must be periodyn.Event(name, test) objects, got {type(ev).__name__}")
+    names = [ev.name for ev in events]
+    if len(set(names)) != len(names):
+        raise InputError(f"event names must be distinct, got {names}")
+    return events
 
 
 def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, float]]:
@@ -140,3 +247,65 @@ def same_point(p1: float, g1: float, p2: float, g2: float, p_shared: float, g_sh
         return (ftol / slope if slope > 0 else np.inf) + 1e-12 * max(1.0, abs(p))
 
     return abs(p1 - p2) <= tolerance(p1, g1) + tolerance(p2, g2)
+
+
+def null_vector(J, sweeps: int = 4) -> np.ndarray:
+    """Unit null vector of the (nearly) singular Jacobian J at a fold or branch point, by
+    inverse iteration with one factorization of J (the critical direction in the unknowns)."""
+    solve = lu_factor(J)
+    v = np.ones(J.shape[0]) / np.sqrt(J.shape[0])
+    for _ in range(sweeps):
+        v = solve(v)
+        v /= np.linalg.norm(v)
+    return v * np.sign(v[int(np.argmax(np.abs(v)))])
+
+
+def refine_fold(arc, a, b, ftol: float):
+    """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
+    by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
+    L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
+    ta = a.t / arc.norm(a.t)  # unit in the arc's present scale (it may have grown since a)
+
+    def g(s, *_):
+        try:
+            pt = arc.correct(a.X + s * L * ta[:arc.N], a.p + s * L * ta[arc.N], ta, exact_tangent=True, start=a)
+        except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
+            return None
+        return pt.t[arc.N], pt
+
+    end = g(1.0)
+    if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
+        return None
+    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=ftol, stol=1e-12)
+    if res is None:
+        return None
+    pt = res[1]
+    return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
+
+
+def refine_crossing(equations, tol: float, a, b, value, bracket, ftol: float):
+    """Parameter where a test function vanishes between branch points a and b (bracket: its
+    values there): fixed-parameter Newton solves (``equations(X, p)`` -> (R, J) exact, to
+    residual ``tol``) from the interpolated bracket solutions, Illinois on ``value(X, p)`` to
+    |value| < ftol. Returns (X, p, residual, (test at a, b, there)) or None."""
+    def g(s, lo, hi):
+        (sa, _, (Xa, _)), (sb, _, (Xb, _)) = lo, hi
+        f = (s - sa) / (sb - sa) if sb != sa else 0.5
+        p = a.p + s * (b.p - a.p)
+        try:  # exact Jacobians: a fixed-parameter Newton far from the corrector's last point
+            res = newton(lambda X: equations(X, p), Xa + f * (Xb - Xa), tol=tol, max_iter=12, label="special point",
+                         hint="")
+        except ConvergenceError:
+            return None
+        return value(res.x, p), (res.x, res.residual)
+
+    if not np.sign(bracket[0]) * np.sign(bracket[1]) < 0:
+        return None  # no sign change to refine (e.g. another multiplier of that kind nearer the circle)
+    stol = 1e-12 * max(1.0, abs(a.p), abs(b.p)) / max(abs(b.p - a.p), 1e-300)
+    res = illinois(g, (0.0, bracket[0], (a.X, a.residual)), (1.0, bracket[1], (b.X, b.residual)), ftol=ftol,
+                   stol=stol, max_iter=30)
+    if res is None:
+        return None
+    s, (X, rn) = res
+    p = a.p + s * (b.p - a.p)
+    return X, p, rn, (bracket[0], bracket[1], value(X, p))

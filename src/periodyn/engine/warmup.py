@@ -64,7 +64,7 @@ def _nonlinear_element_models() -> None:
     from ..examples.elliptic_pendulum import elliptic_pendulum_model
     from ..nonlinear import shooting
 
-    shooting(elliptic_pendulum_model(), 0.8 * np.sqrt(9.81), method="implicit")
+    shooting(elliptic_pendulum_model(), 0.8 * np.sqrt(9.81), integrator="implicit")
 
 
 def _dae() -> None:

@@ -147,7 +147,7 @@ def cardan_shaft_nonlinear(alpha: float = np.pi / 6, damping: float = 0.01, elem
     """The full non-linear equations (4) of the same Cardan shaft (``periodyn.element_dae``
     of the element model of :func:`cardan_shaft`, same damping): an ODE in the ten
     deformation modes of the two beams (torsion and four bending modes each) that
-    ``periodyn.shooting(..., method="implicit")`` solves; ``.equations.model`` is the
+    ``periodyn.shooting(..., integrator="implicit")`` solves; ``.equations.model`` is the
     element model (outputs by ``periodyn.nonlinear.element_outputs``), ``.metadata`` as
     :func:`cardan_shaft`'s."""
     from ..nonlinear.elements import element_dae

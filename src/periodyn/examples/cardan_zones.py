@@ -12,6 +12,7 @@ import argparse
 import numpy as np
 
 from ..stability.boundaries import BoundaryCheck, check_boundary, stability_boundaries
+from ..stability.methods import stability_choice
 from .cardan import cardan_shaft
 
 __all__ = ["cardan_boundaries"]
@@ -21,14 +22,17 @@ GRID = np.linspace(0.60, 0.96, 19)
 
 
 def cardan_boundaries(alpha: float = np.pi / 6, harmonics: int = 12, samples: int = 64, grid=GRID,
-                      method: str = "dense", xtol: float = 1e-8, step: float = 1e-3,
-                      truncation: str = "refuse") -> tuple[float, list[BoundaryCheck]]:
+                      stability: str = "dense", xtol: float = 1e-8, step: float = 1e-3,
+                      truncation: str = "refuse", *, method: str | None = None) -> tuple[float, list[BoundaryCheck]]:
     """(omega_b in rad/s, the boundaries within ``grid`` (omega / omega_b, increasing),
     each with its monodromy check at relative distance ``step``); truncation: "refuse" or
-    "warn" for Hill results above the truncation tolerance (the monodromy check still runs)."""
+    "warn" for Hill results above the truncation tolerance (the monodromy check still runs);
+    stability: the stability method (``method=``, its deprecated spelling, warns)."""
+    if method is not None:
+        stability = stability_choice(None if stability == "dense" else stability, method, "cardan_boundaries")[1]
     model = cardan_shaft(alpha, samples=samples)
     wb = model.metadata["omega_b"]
-    found = stability_boundaries(model.at, np.asarray(grid, float) * wb, harmonics, method=method, xtol=xtol,
+    found = stability_boundaries(model.at, np.asarray(grid, float) * wb, harmonics, stability=stability, xtol=xtol,
                                  truncation=truncation)
     return wb, [check_boundary(model.at, b, step) for b in found]
 

@@ -35,6 +35,7 @@ from ..periodic import PeriodicSolution
 from ..numerics.spectra import min_samples, sample_angles
 from .ihb_fourier import complex_to_real, derivative_matrix, real_to_complex
 from .ihb_jacobian import JacobianPattern, block_needs
+from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..dae import DAE
 
@@ -237,23 +238,24 @@ class IHBProblem:
                       hint="give a better initial guess (continuation) or more harmonics")
 
 
-def ihb(system, omega: float, harmonics: int = 5, *, samples: int | None = None, initial=None,
-        subharmonic: int = 1, tol: float = 1e-8, max_iter: int = 30, stability: str | None = "magnus",
-        params=None) -> PeriodicSolution:
+def ihb(system, omega: float, harmonics: int = 5, *, initial=None, params=None, options: IHBOptions | None = None,
+        **keywords) -> PeriodicSolution:
     """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
     its non-linear equations ``element_dae``) driven at ``omega`` (rad/s) by EGA-IHB.
 
-    harmonics: H; samples: p (default see module docstring); initial: a
-    PeriodicSolution, a real-layout unknown vector, a (n,) constant configuration or None
-    (``system.q0``); subharmonic: nu (orbit period nu 2 pi / omega); tol: residual
-    max-norm (N, N m, m, rad); stability: a method of
-    ``periodyn.nonlinear.orbit_linearization.orbit_exponents`` ("magnus", "monodromy", "hill", "dense",
-    "sparse") or None. Raises ConvergenceError when Newton fails.
+    harmonics: H; initial: a PeriodicSolution, a real-layout unknown vector, a (n,) constant
+    configuration or None (``system.q0``); params: model parameters (default the system's).
+    options: an :class:`IHBOptions` (samples p, default see module docstring; subharmonic nu,
+    orbit period nu 2 pi / omega; tol, residual max-norm in N, N m, m, rad; max_iter;
+    stability, a stability method or None); keywords of those names override its fields.
+    Raises ConvergenceError when Newton fails.
     """
+    opts = ihb_options(options, keywords)
+    tol, max_iter, stability = opts.tol, opts.max_iter, opts.stability
     system = as_dae(system, "ihb")
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
-    prob = IHBProblem(system, harmonics, samples, subharmonic)
+    prob = IHBProblem(system, harmonics, opts.samples, opts.subharmonic)
     if initial is None:
         X0 = prob.initial(omega=float(omega), params=params)
         try:

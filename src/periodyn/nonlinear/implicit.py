@@ -1,5 +1,5 @@
 """Shooting of element models on a fixed-step implicit one-period map, entirely in Numba
-(``periodyn.shooting(element_dae(model), omega, method="implicit")``).
+(``periodyn.shooting(element_dae(model), omega, integrator="implicit")``).
 
 The period is integrated in N steps of the trapezoidal rule (:mod:`periodyn.kernels.solvers.implicit`)
 with simplified Newton per step and the analytic acceleration Jacobians -M̄⁻¹K̄, -M̄⁻¹C̄ of the
@@ -41,12 +41,10 @@ from ..model.kinematics import MAX_HALVINGS, NEWTON_MAX_ITER
 from ..periodic import PeriodicSolution
 from ..numerics.spectra import fourier_coefficients
 from ..numerics.newton_iteration import newton
+from ..numerics.options import STEPS  # default steps per period (its comment: the accuracy it gives)
 
 __all__ = ["ImplicitMap", "ImplicitProblem", "implicit_shooting", "STEPS"]
 
-#: default steps per period: slider-crank at 150 rad/s (its finest-resolved speed), extrapolated
-#: harmonics 7e-5 from DOP853 relative to the largest, estimate 8e-4 (module docstring)
-STEPS = 256
 STEP_TOL = 1e-10  # Newton per step: max|G| <= STEP_TOL (1 + max|y|)
 STEP_MAX_ITER = 12
 
@@ -60,10 +58,10 @@ class ImplicitMap:
         self.eq = getattr(system, "equations", None)
         self.linear = getattr(system, "rheo_linear", None)
         if self.linear is None and (self.eq is None or not hasattr(self.eq, "configurations")):
-            raise InputError(f"method='implicit' integrates element models (periodyn.element_dae) and rheo-linear "
+            raise InputError(f"integrator='implicit' integrates element models (periodyn.element_dae) and rheo-linear "
                              f"systems (rheo_linear_dae); '{system.name}' is neither: use method='DOP853', 'Radau' or 'BDF'")
         if self.eq is not None and self.linear is None and not self.eq.model.uniform:
-            raise InputError(f"method='implicit' integrates element models driven at constant speed; '{system.name}' "
+            raise InputError(f"integrator='implicit' integrates element models driven at constant speed; '{system.name}' "
                              "has inputs or loads that are functions of the driving angle: use method='DOP853' "
                              "(or 'Radau' / 'BDF' for stiff models)")
         if self.linear is not None and not np.isclose(omega, self.linear.omega, rtol=1e-12):

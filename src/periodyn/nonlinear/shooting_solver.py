@@ -25,14 +25,14 @@ from ..stability.floquet import FloquetExponents
 from ..periodic import PeriodicSolution
 from ..numerics.spectra import fourier_coefficients
 from .elements import as_dae
-from .implicit import STEPS, implicit_shooting
+from .implicit import implicit_shooting
+from .options import ShootingOptions, shooting_options
 from ..numerics.integration import accelerations, consistent_state
 from ..numerics.newton_iteration import newton
 from ..numerics.variational import flow
 
 __all__ = ["ShootingProblem", "cyclic_indices", "settle", "shooting", "start_state"]
 
-SHOOTING_METHODS = ("DOP853", "Radau", "BDF", "implicit")
 _FD_REL = 1e-6  # relative step of the parameter derivative of a consistent start state
 
 
@@ -42,16 +42,18 @@ class ShootingProblem:
     references: (N, n) configurations near the orbit at the N segment starts (fix the
     coordinate partitions and the Newton starts of the dependent coordinates); cyclic:
     indices of coordinates compared modulo 2 pi; parameter: None (the continuation
-    parameter is omega) or the name of a model parameter; method: integrator (``solve``).
+    parameter is omega) or the name of a model parameter; method: integrator (``solve``);
+    max_step: its largest step, s.
     """
 
     def __init__(self, system, references, subharmonic: int = 1, rtol: float = 1e-11, atol: float = 1e-12,
-                 samples: int = 128, cyclic=(), parameter: str | None = None, method: str = "DOP853"):
+                 samples: int = 128, cyclic=(), parameter: str | None = None, method: str = "DOP853",
+                 max_step: float = np.inf):
         self.system = system
         self.refs = np.atleast_2d(np.array(references, float))
         self.N = self.refs.shape[0]
         self.nu = int(subharmonic)
-        self.rtol, self.atol, self.method, self.parameter = rtol, atol, method, parameter
+        self.rtol, self.atol, self.method, self.parameter, self.max_step = rtol, atol, method, parameter, max_step
         self.p = self.N * -(-int(samples) // self.N)  # samples: a multiple of N
         self.taus = 2 * np.pi * self.nu * np.arange(self.N) / self.N
         self.span = 2 * np.pi * self.nu / self.N
@@ -163,7 +165,7 @@ class ShootingProblem:
         X = np.asarray(X, float)
         rtol, atol = (self.rtol, self.atol) if rtol is None else (rtol, 0.1 * rtol)
         f = flow(self.system, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=rtol, atol=atol,
-                 method=self.method)
+                 method=self.method, max_step=omega * self.max_step)
         return self._residual_from(X, f.y)
 
     def _key(self, X, omega, P):
@@ -186,7 +188,7 @@ class ShootingProblem:
         E = np.array([self._tangent(Y0[i, :n], Y0[i, n:], omega, P, i) for i in range(self.N)])
         f = flow(self.system, omega, Y0, self.taus, self.span, directions=E, params=P, rtol=rtol, atol=atol,
                  sensitivity=self._start_sensitivity(X, omega, P) if sensitivity else None, parameter=self.parameter,
-                 method=self.method, t_eval=self._sample_phases() if samples else None)
+                 method=self.method, t_eval=self._sample_phases() if samples else None, max_step=omega * self.max_step)
         if samples:
             self._samples = (key, f.samples)
         R = self._residual_from(X, f.y)
@@ -245,7 +247,8 @@ class ShootingProblem:
             samples = self._samples[1]
         else:
             samples = flow(sysm, omega, self._starts(X, omega, P), self.taus, self.span, params=P, rtol=self.rtol,
-                           atol=self.atol, method=self.method, t_eval=self._sample_phases()).samples
+                           atol=self.atol, method=self.method, t_eval=self._sample_phases(),
+                           max_step=omega * self.max_step).samples
         Y = np.swapaxes(samples, 0, 1).reshape(self.p, 2 * n)  # segment by segment: the equispaced grid
         t = np.arange(self.p) * (2 * np.pi * self.nu / omega) / self.p
         c = self.cyclic  # a 2 pi-shifted orbit is the same orbit: mean of a cyclic coordinate in (-pi, pi]
@@ -324,43 +327,34 @@ def cyclic_indices(system, cyclic) -> list[int]:
     return out
 
 
-def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle_periods: int | None = None,
-             segments: int = 1, cyclic=(), tol: float = 1e-9, max_iter: int = 30, rtol: float = 1e-11,
-             samples: int = 128, params=None, method: str = "DOP853", steps: int = STEPS) -> PeriodicSolution:
+def shooting(system, omega: float, *, initial=None, params=None, options: ShootingOptions | None = None,
+             **keywords) -> PeriodicSolution:
     """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
     its non-linear equations ``element_dae``) at ``omega`` (rad/s) by single or multiple shooting.
 
     initial: PeriodicSolution (e.g. from ``ihb``), a full state (q, qd), or None (rest at
-    ``system.q0``). settle_periods: periods integrated (loose tolerance, explicit method,
-    stopping early once settled) before Newton; None: from rest, settle up to 400 periods
-    first; from a given guess, Newton first and, when it fails, settle and try again. segments: N >= 1 (multiple
-    shooting for long periods or strongly unstable orbits). cyclic: names or indices of
-    angle coordinates compared modulo 2 pi (rotating or 2 pi-shifted orbits). tol:
-    residual max-norm of the independent states (m, rad, m/s, rad/s); method: "DOP853"
-    or an implicit "Radau"/"BDF" (stiff models; analytic Jacobian), or "implicit" (element
-    and rheo-linear models, one segment: ``steps`` trapezoidal steps per period in Numba
-    with the exact monodromy of the discrete map, :mod:`periodyn.nonlinear.implicit`). The result has spectra
-    of q and lambda from ``samples`` points of the orbit and the monodromy multipliers
-    (2(n - m),). Raises ConvergenceError saying what was tried when no start converges.
+    ``system.q0``); params: model parameters (default the system's). options: a
+    :class:`ShootingOptions` (subharmonic, settle_periods, segments, cyclic, tol, max_iter,
+    samples, integration); keywords of those names, and of the :class:`IntegrationOptions`
+    fields (integrator: "DOP853", an implicit "Radau"/"BDF" for stiff models with the analytic
+    Jacobian, or "implicit" for element and rheo-linear models: ``steps`` trapezoidal steps per
+    period in Numba with the exact monodromy of the discrete map,
+    :mod:`periodyn.nonlinear.implicit`; rtol, atol, max_step, steps), override its fields. The
+    result has spectra of q and lambda from ``samples`` points of the orbit and the monodromy
+    multipliers (2(n - m),). Raises ConvergenceError saying what was tried when no start converges.
     """
+    opts = shooting_options(options, keywords)
     system = as_dae(system, "shooting")
     if not np.isfinite(omega) or omega <= 0:
         raise InputError(f"omega must be a positive driving frequency in rad/s, got {omega!r}")
-    if int(segments) < 1 or int(subharmonic) < 1:
-        raise InputError(f"segments and subharmonic must be integers >= 1, got {segments}, {subharmonic}")
-    if method not in SHOOTING_METHODS:
-        raise InputError(f"shooting method must be one of {SHOOTING_METHODS}, got {method!r}: 'DOP853' for "
-                         "non-stiff systems, 'Radau'/'BDF' or 'implicit' (element models) for stiff ones")
+    integ, subharmonic, settle_periods = opts.integration, opts.subharmonic, opts.settle_periods
     P = system.parameters if params is None else params
-    cyc = cyclic_indices(system, cyclic)
+    cyc = cyclic_indices(system, opts.cyclic)
     q, qd = start_state(system, initial, omega, P)
-    if method == "implicit":
-        if int(segments) != 1 or cyc:
-            raise InputError("method='implicit' shoots one segment without cyclic coordinates; use segments=1 "
-                             "and cyclic=(), or an adaptive method ('DOP853', 'Radau', 'BDF')")
-        return implicit_shooting(system, omega, q, qd, subharmonic=subharmonic, steps=steps,
-                                 settle_periods=settle_periods or 0, tol=tol, max_iter=max_iter, samples=samples,
-                                 params=params)
+    if integ.integrator == "implicit":
+        return implicit_shooting(system, omega, q, qd, subharmonic=subharmonic, steps=integ.steps,
+                                 settle_periods=settle_periods or 0, tol=opts.tol, max_iter=opts.max_iter,
+                                 samples=opts.samples, params=params)
     tried = []
     plans = [settle_periods] if settle_periods else [400] if initial is None else [0, 400]
     for periods in plans:
@@ -370,10 +364,11 @@ def shooting(system, omega: float, *, initial=None, subharmonic: int = 1, settle
             what = f"Newton after settling {done} periods (change per period {change:.3g})"
         else:
             what = "Newton from the start state"
-        Q, QD = _segment_starts(system, omega, initial if not periods else None, q, qd, int(segments), subharmonic, P)
-        prob = ShootingProblem(system, Q, subharmonic, rtol=rtol, samples=samples, cyclic=cyc, method=method)
+        Q, QD = _segment_starts(system, omega, initial if not periods else None, q, qd, opts.segments, subharmonic, P)
+        prob = ShootingProblem(system, Q, subharmonic, rtol=integ.rtol, atol=integ.atol, samples=opts.samples,
+                               cyclic=cyc, method=integ.integrator, max_step=integ.max_step)
         try:
-            res = prob.newton(prob.unknowns(Q, QD), float(omega), P, tol, max_iter)
+            res = prob.newton(prob.unknowns(Q, QD), float(omega), P, opts.tol, opts.max_iter)
         except (ConvergenceError, np.linalg.LinAlgError) as exc:
             last = (getattr(exc, "residual", float("nan")), getattr(exc, "iterations", 0))
             tried.append(f"{what}: residual {last[0]:.3g} after {last[1]} iterations")

@@ -10,24 +10,43 @@ from the model's force Jacobians (and mass Jacobian when the mass depends on q).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import InputError
 from .integration import TimeHistory, solve
+from .options import IntegrationOptions, merge_options
 
-__all__ = ["integrate_stiff"]
+__all__ = ["STIFF_DEFAULTS", "integrate_stiff"]
 
 
-def integrate_stiff(system, omega: float, t_span, q0, qd0, *, t_eval=None, params=None, rtol: float = 1e-8,
-                    atol: float = 1e-10, method: str = "Radau") -> TimeHistory:
+#: the defaults of integrate_stiff
+STIFF_DEFAULTS = IntegrationOptions(integrator="Radau", rtol=1e-8, atol=1e-10)
+
+
+def integrate_stiff(system, omega: float, t_span, q0, qd0, *, t_eval=None, params=None,
+                    options: IntegrationOptions | None = None, **keywords) -> TimeHistory:
     """Integrate an ODE model from (q0, qd0) (n,) over t_span (s) at driving frequency
     omega (rad/s) with an implicit method and the analytic Jacobian; returns a
-    TimeHistory at t_eval (default the solver's steps), lam of width 0."""
+    TimeHistory at t_eval (default the solver's steps), lam of width 0.
+
+    options: an :class:`IntegrationOptions` (default ``STIFF_DEFAULTS``: Radau, rtol 1e-8,
+    atol 1e-10); keywords integrator ("Radau" or "BDF"), rtol, atol and max_step override its
+    fields (``method=``, the deprecated spelling of integrator, warns)."""
+    if "method" in keywords:
+        method = keywords.pop("method")
+        warnings.warn("integrate_stiff(method=...) is deprecated and goes in the next release; pass "
+                      f"integrator={method!r}", DeprecationWarning, stacklevel=2)
+        keywords.setdefault("integrator", method)
+    opts = merge_options(IntegrationOptions, STIFF_DEFAULTS if options is None else options, keywords,
+                         "integrate_stiff")
     if system.m:
         raise InputError("integrate_stiff integrates ODE models (no constraints); use "
                          "periodyn.numerics.integration for a constrained DAE")
-    if method not in ("Radau", "BDF"):
-        raise InputError(f"method must be 'Radau' or 'BDF' (implicit, with the analytic Jacobian), got {method!r}")
+    if opts.integrator not in ("Radau", "BDF"):
+        raise InputError(f"integrate_stiff's integrator must be 'Radau' or 'BDF' (implicit, with the analytic "
+                         f"Jacobian), got {opts.integrator!r}")
     n = system.n
     P = system.parameters if params is None else params
     q0 = np.asarray(q0, float).reshape(n)
@@ -54,5 +73,6 @@ def integrate_stiff(system, omega: float, t_span, q0, qd0, *, t_eval=None, param
         J[n:, n:] = np.linalg.solve(M, fv)
         return J
 
-    sol = solve(rhs, t_span, np.concatenate([q0, qd0]), t_eval=t_eval, rtol=rtol, atol=atol, method=method, jac=jac)
+    sol = solve(rhs, t_span, np.concatenate([q0, qd0]), t_eval=t_eval, rtol=opts.rtol, atol=opts.atol,
+                method=opts.integrator, max_step=opts.max_step, jac=jac)
     return TimeHistory(sol.t, sol.y[:n].T, sol.y[n:].T, np.zeros((len(sol.t), 0)), int(sol.nfev))

@@ -208,14 +208,15 @@ def _phase_only(system, omega, tau0, y0, P, span) -> bool:
 
 
 def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, parameter=None, params=None,
-         rtol=1e-10, atol=1e-12, method="DOP853", baumgarte=None, t_eval=None) -> Flow:
+         rtol=1e-10, atol=1e-12, method="DOP853", baumgarte=None, t_eval=None, max_step=np.inf) -> Flow:
     """Integrate b members from states y0 (b, 2n) at phases tau0 (b,) rad over ``span``
     rad of phase (time span / omega) at driving speed omega (rad/s).
 
     directions: (b, 2n, k) start directions, their images come back as ``columns``
     (variational equations); sensitivity: (b, 2n) start derivative dy0/dp, integrated with
     dG/dp (p = omega, or ``parameter`` a name in params); t_eval: phases in [0, span] to
-    sample. method: any ``solve`` method; implicit ones get the analytic Jacobian.
+    sample. method: any ``solve`` method; implicit ones get the analytic Jacobian; max_step:
+    its largest step in phase (rad; a step of h seconds is omega h).
     baumgarte: stabilization rate (1/s), default omega: constraint drift decays by
     exp(-2 pi) per period, and the steps stay as long as the motion allows (5 omega, the
     default of ``integrate``, takes twice as many steps at rtol 1e-11).
@@ -293,7 +294,7 @@ def flow(system, omega, y0, tau0, span, *, directions=None, sensitivity=None, pa
     # hundreds of thousands of explicit steps, each holding the 2n(k + 1) states)
     t_all = np.append([] if t_eval is None else np.asarray(t_eval, float), float(span))
     sol = solve(rhs, (0.0, float(span)), np.concatenate([y0.ravel(), C0.ravel()]), t_eval=t_all, rtol=rtol, atol=tol,
-                method=method, jac=jac if implicit else None)
+                method=method, jac=jac if implicit else None, max_step=max_step)
     Y, C = parts(sol.y[:, -1])
     samples = None if t_eval is None else sol.y[:bN, :-1].T.reshape(-1, b, N)
     return Flow(Y, C[:, :, :k] if k else None, C[:, :, -1] if sens else None, samples, int(sol.nfev))

@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..system import RheoLinear
 from .crossings import classify_crossing
 from .floquet import FloquetExponents
-from .methods import characteristic_exponents, check_method
+from .methods import characteristic_exponents, check_method, stability_choice
 
 __all__ = ["StabilityBoundary", "BoundaryCheck", "stability_boundaries", "crossing_type", "check_boundary"]
 
@@ -41,16 +41,19 @@ def crossing_type(exps: FloquetExponents, tol: float = 1e-3) -> str:
 
 
 def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.ndarray, harmonics: int,
-                         method: str = "auto", xtol: float = 1e-10,
-                         truncation: str = "refuse") -> list[StabilityBoundary]:
+                         stability: str = "auto", xtol: float = 1e-10, truncation: str = "refuse", *,
+                         method: str | None = None) -> list[StabilityBoundary]:
     """Boundaries within a speed grid: each sign change of max Re(lambda) between grid
     neighbours is refined by Brent's method to ``xtol`` (relative to omega).
 
     system_at: omega -> RheoLinear (e.g. ``model.at``); omega: increasing grid, rad/s;
-    method: a stability method of :mod:`periodyn.stability.methods`; truncation: "refuse" or
-    "warn", for Hill results above the truncation tolerance (:func:`characteristic_exponents`).
+    stability: a stability method of :mod:`periodyn.stability.methods` (``method=``, its
+    deprecated spelling, warns); truncation: "refuse" or "warn", for Hill results above the
+    truncation tolerance (:func:`characteristic_exponents`).
     """
-    method = check_method(method)
+    if method is not None:
+        stability = stability_choice(None if stability == "auto" else stability, method, "stability_boundaries")[1]
+    method = check_method(stability)
     omega = np.asarray(omega, dtype=float)
     if omega.ndim != 1 or omega.size < 2 or np.any(np.diff(omega) <= 0):
         raise InputError("omega must be an increasing 1-D grid of at least two speeds (rad/s)")

@@ -29,7 +29,7 @@ With ``omega.values`` the "frequency" branch holds one periodic solution per giv
 steps in between: for stiff element models whose response over a wide speed range passes
 resonances and unstable zones that a continuation would have to resolve point by point.
 Method "shooting" shoots element models on the implicit one-period map (``shooting(...,
-method="implicit")``, multipliers of its monodromy) from the linearized harmonic-balance
+integrator="implicit")``, multipliers of its monodromy) from the linearized harmonic-balance
 orbit at each speed, other DAEs with DOP853; "ihb" solves EGA-IHB with the stability
 method of the table. No parameter curve or period-doubled branch with given speeds.
 

@@ -40,7 +40,7 @@ def solve_at_speeds(system, omega, harmonics: int, method: str = "shooting", *, 
         else:
             w = float(w)
             start = previous if linear is None else periodic_solution(linear.at(w), harmonics)
-            previous = shooting(system, w, initial=start, method=integrator, samples=2 * harmonics + 1, **kw)
+            previous = shooting(system, w, initial=start, integrator=integrator, samples=2 * harmonics + 1, **kw)
         solutions.append(previous)
         if progress is not None:
             progress(k + 1, float(w))

@@ -57,8 +57,8 @@ def test_a_registered_method_serves_scalar_calls_sweeps_and_boundaries(registry)
     np.testing.assert_array_equal(ds.max_real_exponent.values, [fl.max_real for fl in scalar])
     callable_model = periodyn.sweep(model.at, speeds[:1], 4, stability="fine-magnus", progress=False)
     assert callable_model.stability_method.values[0] == "fine-magnus"
-    found = stability_boundaries(model.at, np.array([0.85, 0.95]) * w0, 4, method="fine-magnus", xtol=1e-8)
-    magnus = stability_boundaries(model.at, np.array([0.85, 0.95]) * w0, 4, method="magnus", xtol=1e-8)
+    found = stability_boundaries(model.at, np.array([0.85, 0.95]) * w0, 4, stability="fine-magnus", xtol=1e-8)
+    magnus = stability_boundaries(model.at, np.array([0.85, 0.95]) * w0, 4, stability="magnus", xtol=1e-8)
     assert len(found) == len(magnus) == 1 and found[0].kind == magnus[0].kind
     assert abs(found[0].omega - magnus[0].omega) < 1e-4 * w0
     orbit = periodyn.ihb(periodyn.examples.pendulum_nonlinear(), 0.8 * w0, 5, stability="fine-magnus")
@@ -98,3 +98,15 @@ def test_hill_is_the_cheaper_hill_method_everywhere():
     batch = SpeedSolver(model, 12, "hill").solve_many([w])  # dense: stacked LAPACK, equal to round-off
     np.testing.assert_allclose(batch.exponents[0], hill.exponents, rtol=1e-13)
     assert batch.method[0] == chosen
+
+
+def test_boundaries_old_method_keyword_warns_and_keeps_its_meaning():
+    model = periodyn.examples.pendulum(samples=32)
+    w0 = model.metadata["omega0"]
+    grid = np.array([0.85, 0.95]) * w0
+    with pytest.warns(DeprecationWarning, match=r"stability_boundaries\(method=\.\.\.\) is deprecated"):
+        old = stability_boundaries(model.at, grid, 4, method="magnus", xtol=1e-8)
+    new = stability_boundaries(model.at, grid, 4, stability="magnus", xtol=1e-8)
+    assert [(b.omega, b.kind) for b in old] == [(b.omega, b.kind) for b in new]
+    with pytest.raises(InputError, match="disagree"), pytest.warns(DeprecationWarning):
+        stability_boundaries(model.at, grid, 4, stability="dense", method="magnus")
