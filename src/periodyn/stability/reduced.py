@@ -36,7 +36,9 @@ from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
 from .magnus import MagnusLadder
 
-__all__ = ["ReducedStability", "system_model", "reduced_choices", "LADDER_TOL", "START_MODES"]
+__all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
+           "reduced_costs", "LADDER_TOL",
+           "START_MODES", "AUTO_MIN_COORDINATES"]
 
 LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor: ERROR_FLOOR)
 # modes of the first try, before the parametric-reach guard: with 4 the bound (3e-6 to 4e-5
@@ -44,6 +46,13 @@ LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor
 # with 8 (bound 1e-7 to 2e-6) at 5 or 6 of 24 speeds, which then climbed the 16-mode ladder at
 # about 3 times its cost; 12 (bound 2e-8 to 7e-7 on 8, 32 and 64 elements) certifies them all
 START_MODES = 12
+# "auto" considers the reduced method from this many coordinates (twice START_MODES: fewer
+# leave too few modes out to pay for the correction; the Cardan shaft has 10)
+AUTO_MIN_COORDINATES = 2 * START_MODES
+# estimated seconds of one correction (the complex LU of the reduced Hill matrix, N = (2m+1) k,
+# and the products; measured 4-6 ms at N = 300 on one core): CORRECTION_COST[0] N^3 + [1]
+CORRECTION_COST = (1.0e-10, 2.0e-3)
+LADDER_CLIMB = 4.0  # the reduced ladder's time over its first comparison (3.5 on the 32-element slider-crank)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
 DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
@@ -296,3 +305,55 @@ def reduced_choices(stage, w: np.ndarray):
     exps, done, reasons, records = stage.prepared("reduced").solve(w, stage.m)
     names = np.where(done, "reduced", "auto").astype(object)
     return names, reasons, exps, done, records
+
+
+def reduced_costs(stage, w: np.ndarray) -> np.ndarray:
+    """Estimated seconds (S,) of the method "reduced" at the speeds w (S,) rad/s where "auto"
+    takes it, inf elsewhere. It takes it on models of at least AUTO_MIN_COORDINATES
+    coordinates (positive definite mean mass) whose guarded mode count k leaves modes out,
+    where the reduced ladder's first comparison plus the correction (CORRECTION_COST) is
+    estimated cheaper than (n/k)^3 times that first comparison (a lower bound of the full
+    ladder's: more coordinates, at least as stiff); the estimate is LADDER_CLIMB times the
+    first comparison plus the correction."""
+    n, out = stage.n, np.full(w.size, np.inf)
+    if n < AUTO_MIN_COORDINATES:
+        return out
+    try:
+        R = stage.prepared("reduced")
+    except (np.linalg.LinAlgError, ValueError):  # no positive definite mean mass: no mean modes
+        return out
+    k = np.array([guarded_modes(R.modes, START_MODES, stage.m, wi) for wi in w])
+    for kk in np.unique(k[k < n]):
+        group = np.nonzero(k == kk)[0]
+        first = R.ladder(int(kk)).first_cost(w[group])
+        correction = CORRECTION_COST[0] * ((2 * stage.m + 1) * kk) ** 3 + CORRECTION_COST[1]
+        out[group] = np.where(first + correction < (n / kk) ** 3 * first, LADDER_CLIMB * first + correction, np.inf)
+    return out
+
+
+def reduced_pays(stage, w: np.ndarray) -> np.ndarray:
+    """Speeds w (S,) where "auto" takes the method "reduced" (:func:`reduced_costs`)."""
+    return np.isfinite(reduced_costs(stage, w))
+
+
+def reduced_first(stage, w: np.ndarray, full):
+    """"auto" per speed in a sweep: the reduced method where :func:`reduced_pays`, and
+    ``full(stage, w)`` -> (names, reasons, exponents, solved) (the full model's rule) at the
+    other speeds and where it did not certify; the records of the reduced method (their
+    fill values elsewhere)."""
+    S = w.size
+    use = reduced_pays(stage, w)
+    records = {"reduced_modes": np.zeros(S, np.int32), "reduced_correction": np.full(S, np.nan),
+               "stability_error_bound": np.full(S, np.nan)}
+    names, reasons = np.full(S, "reduced", dtype=object), np.full(S, "", dtype=object)
+    exps, solved = np.full((S, 2 * stage.n), np.nan + 0j), np.zeros(S, bool)
+    if use.any():
+        at = np.nonzero(use)[0]
+        exps[at], solved[at], reasons[at], rec = stage.prepared("reduced").solve(w[at], stage.m)
+        for name, values in rec.items():
+            records[name][at] = values
+    rest = np.nonzero(~solved)[0]
+    if rest.size:
+        names[rest], why, exps[rest], solved[rest] = full(stage, w[rest])
+        reasons[rest] = [f"{r}; {y}" if r else y for r, y in zip(reasons[rest], why)]
+    return names, reasons, exps, solved, records
