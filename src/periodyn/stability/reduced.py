@@ -44,8 +44,9 @@ LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor
 # modes of the first try, before the parametric-reach guard: with 4 the bound (3e-6 to 4e-5
 # on the 4-64-element slider-cranks over 150-300 rad/s) was above the tolerance at every speed;
 # with 8 (bound 1e-7 to 2e-6) at 5 or 6 of 24 speeds, which then climbed the 16-mode ladder at
-# about 3 times its cost; 12 (bound 2e-8 to 7e-7 on 8, 32 and 64 elements) certifies them all
-START_MODES = 12
+# about 3 times its cost; 10 (bound 6e-8 to 6.7e-7 on 16, 32, 64 and 128 elements) certifies
+# them all at about 0.7 times the cost of 12 (bound 2e-8 to 3e-7)
+START_MODES = 10
 # "auto" considers the reduced method from this many coordinates (twice START_MODES: fewer
 # leave too few modes out to pay for the correction; the Cardan shaft has 10)
 AUTO_MIN_COORDINATES = 2 * START_MODES
@@ -92,8 +93,12 @@ def _truncated_solve(Mh: np.ndarray, Ch: np.ndarray, Kh: np.ndarray, s: np.ndarr
     d = (s * s)[:, None] * np.diag(Mh) + s[:, None] * np.diag(Ch) + np.diag(Kh)
     z = r / d
     scale = np.linalg.norm(r)
+    h, rows = r.shape[1], r.shape[0]
+    A = np.concatenate([Mh.real.T, Ch.real.T, Kh.real.T], axis=1)  # the means of real samples: real, (h, 3h)
     for _ in range(JACOBI_STEPS):
-        res = r - ((s * s)[:, None] * (z @ Mh.T) + s[:, None] * (z @ Ch.T) + z @ Kh.T)
+        Z = np.concatenate([z.real, z.imag]) @ A  # one real product for the three blocks
+        Z = Z[:rows] + 1j * Z[rows:]
+        res = r - ((s * s)[:, None] * Z[:, :h] + s[:, None] * Z[:, h: 2 * h] + Z[:, 2 * h:])
         if np.linalg.norm(res) <= JACOBI_RTOL * scale:
             return z
         z = z + res / d
