@@ -6,8 +6,9 @@ Vocabulary (:func:`names`): "dense" and "sparse" (Hill's method, :mod:`.hill`), 
 4th-order Magnus monodromy, :mod:`.magnus`), "monodromy" (DOP853 reference, :mod:`.monodromy`)
 and "auto": the certified Magnus ladder where its error estimate settles the verdict within
 HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`);
-"reduced": the ladder on a mean-system modal reduction with a certified Schur-complement
-correction (:mod:`.reduced`, for large element models; what it does not certify goes to "auto").
+"reduced": the ladder on a mean-system modal reduction with a certified Schur correction
+(:mod:`.reduced`; what it does not certify goes to "auto"), which a sweep's "auto" takes first
+on element models where it is estimated cheaper (:func:`.reduced.reduced_costs`).
 Sweeps (:class:`periodyn.stability.batch.SpeedStability`), :func:`characteristic_exponents`,
 orbits (:func:`periodyn.nonlinear.orbit_linearization.orbit_exponents`) and boundaries all
 look their method up here. A new method is one module plus one :func:`register` call.
