@@ -27,7 +27,7 @@ from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
 from .results import STABILITY_RECORDS
 from .system import OmegaSplitModel, RheoLinear
 from .stability.magnus import half_period_signs
-from .stability.reduced import START_MODES
+from .stability.reduced import AUTO_MIN_COORDINATES, START_MODES, reduced_pays
 from .model.reduce import guarded_modes
 
 __all__ = ["PointResult", "SpeedBatch", "solve_point", "SpeedSolver", "warm_up"]
@@ -156,7 +156,8 @@ class SpeedSolver:
     then treats a chunk of speeds with stacked LAPACK calls and jitted kernels; the
     large-system paths (banded/sparse HB, ARPACK Hill, DOP853 monodromy) go speed by speed.
     stability: True (= "auto"), False, or a stability method name; ``method=``: its
-    deprecated name. With stability "reduced" (form "direct") the HB is the reduced one too
+    deprecated name. With stability "reduced" (form "direct"), and "auto" on the chunks where
+    it takes the method "reduced", the HB is the reduced one too
     (:mod:`periodyn.harmonic.reduced_balance`: the mean modes of the stability method, the
     residual of the full HB equations below its RTOL; a speed where it does not converge is
     solved in full), ``reduced_balance`` True. ``solve(omega)`` gives the same
@@ -179,7 +180,8 @@ class SpeedSolver:
         self.storage, self.batch_balance = self.balance.storage, self.balance.kind
         self.speed_stability = SpeedStability(model, op, self.method)
         self.dense_hill = self.stability and self.speed_stability.dense_hill
-        self.reduced_balance = self.stability and self.method == "reduced" and form == "direct"
+        self.reduced_balance = self.stability and form == "direct" and (
+            self.method == "reduced" or self.method == "auto" and model.n >= AUTO_MIN_COORDINATES)
         self._reduced: ReducedBalance | None = None
 
     @property
@@ -254,7 +256,7 @@ class SpeedSolver:
         does not converge) the path ``batch_balance`` (:mod:`periodyn.harmonic.batch_balance`)."""
         modes = np.zeros(w.size, np.int32)
         k = self.model.n
-        if self.reduced_balance:
+        if self.reduced_balance and (self.method == "reduced" or reduced_pays(self.speed_stability, w).any()):
             if self._reduced is None:
                 mean = self.speed_stability.prepared("reduced").modes
                 self._reduced = ReducedBalance(self.model, self.m, self.pattern.band, mean)

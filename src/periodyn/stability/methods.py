@@ -6,8 +6,9 @@ Vocabulary (:func:`names`): "dense" and "sparse" (Hill's method, :mod:`.hill`), 
 4th-order Magnus monodromy, :mod:`.magnus`), "monodromy" (DOP853 reference, :mod:`.monodromy`)
 and "auto": the certified Magnus ladder where its error estimate settles the verdict within
 HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`);
-"reduced": the ladder on a mean-system modal reduction with a certified Schur-complement
-correction (:mod:`.reduced`, for large element models; what it does not certify goes to "auto").
+"reduced": the ladder on a mean-system modal reduction with a certified Schur correction
+(:mod:`.reduced`; what it does not certify goes to "auto"), which a sweep's "auto" takes first
+on element models where it is estimated cheaper (:func:`.reduced.reduced_costs`).
 Sweeps (:class:`periodyn.stability.batch.SpeedStability`), :func:`characteristic_exponents`,
 orbits (:func:`periodyn.nonlinear.orbit_linearization.orbit_exponents`) and boundaries all
 look their method up here. A new method is one module plus one :func:`register` call.
@@ -30,7 +31,7 @@ from .floquet import STABILITY_TOL, TRUNCATION_TOL, FloquetExponents, Truncation
 from .hill import arpack_k, hill_solve, shift_frequencies, shift_grid, top_frequencies
 from .magnus import MagnusLadder, sweep_exponents, sweep_terms
 from .monodromy import monodromy_exponents
-from .reduced import ReducedStability, reduced_choices, system_model
+from .reduced import ReducedStability, reduced_choices, reduced_costs, reduced_first, system_model
 
 __all__ = ["StabilityMethod", "register", "method_named", "check_method", "names", "characteristic_exponents",
            "operator_exponents", "hill_exponents", "spectra_operator", "auto_exponents", "choose_method",
@@ -251,8 +252,10 @@ def _hill_choices(stage, w: np.ndarray):
             np.zeros(w.size, dtype=bool))
 
 
-def _auto_choices(stage, w: np.ndarray):
-    """"auto" per speed in a sweep: the model's Magnus ladder solves where it certifies."""
+def _full_auto(stage, w: np.ndarray):
+    """"auto" per speed in a sweep on the full model (the speeds the reduced method does not
+    take, :func:`periodyn.stability.reduced.reduced_first`): its Magnus ladder solves where
+    it certifies, else Hill."""
     hill = stage.hill_choices(w)
     seconds = np.array([c for _, _, c in hill])
     est = stage.prepared("auto").solve(w, seconds * HILL_TIME_FACTOR)
@@ -265,11 +268,14 @@ def _auto_choices(stage, w: np.ndarray):
 
 
 def _auto_cost(stage, w: np.ndarray, base: float) -> np.ndarray:
-    """The Magnus climb (_CLIMB_FACTOR times the ladder's first comparison, which grows as
-    the speed falls), at most what the budget rule lets it spend before Hill takes over."""
+    """The reduced method's estimate where "auto" takes it, else the Magnus climb (_CLIMB_FACTOR
+    times the ladder's first comparison), at most what the budget rule lets it spend before Hill."""
+    reduced = reduced_costs(stage, w)  # where "auto" takes the reduced method (inf elsewhere)
+    if np.isfinite(reduced).all():
+        return base + reduced
     hill = np.array([c for _, _, c in stage.hill_choices(w)])
     climb = np.minimum(_CLIMB_FACTOR * stage.prepared("auto").first_cost(w), HILL_TIME_FACTOR * hill)
-    return base + climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0)
+    return base + np.where(np.isfinite(reduced), reduced, climb + np.where(climb >= HILL_TIME_FACTOR * hill, hill, 0.0))
 
 
 def _reduced_exponents(system: RheoLinear, op: HillOperator, steps=None) -> FloquetExponents:
@@ -293,13 +299,15 @@ def _hill_rule(choice: str) -> Callable[..., FloquetExponents]:
 
 
 _HILL_RULE = "dense or sparse Hill, whichever is estimated cheaper (per point: variable stability_method)"
-_AUTO_RULE = ("auto: Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
+_AUTO_RULE = ("auto: on element models where it is estimated cheaper the method reduced, then "
+              "Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
               "below the stability tolerance and the verdict cannot flip, at less than the estimated cost of Hill; "
               f"else {_HILL_RULE}")
 for _method in (
         StabilityMethod("auto", "certified Magnus ladder where it settles the verdict within Hill's estimated cost, "
                                 "else the cheaper Hill method",
-                        auto_exponents, operator=True, system=True, choose=_auto_choices, delegates=("dense", "sparse"),
+                        auto_exponents, operator=True, system=True, delegates=("dense", "sparse"),
+                        choose=lambda stage, w: reduced_first(stage, w, _full_auto),
                         prepare=lambda model: MagnusLadder(*model._power_spectra[:3]), sweep_cost=_auto_cost,
                         rule=_AUTO_RULE, deferred=True),
         StabilityMethod("sparse", "Hill's method, ARPACK shift-invert subset of the eigenvalues",

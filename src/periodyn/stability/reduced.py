@@ -36,14 +36,24 @@ from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
 from .magnus import MagnusLadder
 
-__all__ = ["ReducedStability", "system_model", "reduced_choices", "LADDER_TOL", "START_MODES"]
+__all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
+           "reduced_costs", "LADDER_TOL",
+           "START_MODES", "AUTO_MIN_COORDINATES"]
 
 LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor: ERROR_FLOOR)
 # modes of the first try, before the parametric-reach guard: with 4 the bound (3e-6 to 4e-5
 # on the 4-64-element slider-cranks over 150-300 rad/s) was above the tolerance at every speed;
 # with 8 (bound 1e-7 to 2e-6) at 5 or 6 of 24 speeds, which then climbed the 16-mode ladder at
-# about 3 times its cost; 12 (bound 2e-8 to 7e-7 on 8, 32 and 64 elements) certifies them all
-START_MODES = 12
+# about 3 times its cost; 10 (bound 6e-8 to 6.7e-7 on 16, 32, 64 and 128 elements) certifies
+# them all at about 0.7 times the cost of 12 (bound 2e-8 to 3e-7)
+START_MODES = 10
+# "auto" considers the reduced method from this many coordinates (twice START_MODES: fewer
+# leave too few modes out to pay for the correction; the Cardan shaft has 10)
+AUTO_MIN_COORDINATES = 2 * START_MODES
+# estimated seconds of one correction (the complex LU of the reduced Hill matrix, N = (2m+1) k,
+# and the products; measured 4-6 ms at N = 300 on one core): CORRECTION_COST[0] N^3 + [1]
+CORRECTION_COST = (1.0e-10, 2.0e-3)
+LADDER_CLIMB = 4.0  # the reduced ladder's time over its first comparison (3.5 on the 32-element slider-crank)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
 DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
@@ -83,8 +93,12 @@ def _truncated_solve(Mh: np.ndarray, Ch: np.ndarray, Kh: np.ndarray, s: np.ndarr
     d = (s * s)[:, None] * np.diag(Mh) + s[:, None] * np.diag(Ch) + np.diag(Kh)
     z = r / d
     scale = np.linalg.norm(r)
+    h, rows = r.shape[1], r.shape[0]
+    A = np.concatenate([Mh.real.T, Ch.real.T, Kh.real.T], axis=1)  # the means of real samples: real, (h, 3h)
     for _ in range(JACOBI_STEPS):
-        res = r - ((s * s)[:, None] * (z @ Mh.T) + s[:, None] * (z @ Ch.T) + z @ Kh.T)
+        Z = np.concatenate([z.real, z.imag]) @ A  # one real product for the three blocks
+        Z = Z[:rows] + 1j * Z[rows:]
+        res = r - ((s * s)[:, None] * Z[:, :h] + s[:, None] * Z[:, h: 2 * h] + Z[:, 2 * h:])
         if np.linalg.norm(res) <= JACOBI_RTOL * scale:
             return z
         z = z + res / d
@@ -121,12 +135,13 @@ class ReducedStability:
         self.M, self.C, self.K = spectra(model.mass), spectra(model.damping), spectra(model.stiffness)
         self._ladders: dict[int, _Ladder] = {}
         self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
+        self._hill: dict[tuple[int, int], np.ndarray] = {}
 
     def couplings(self, k: int, m: int) -> tuple[np.ndarray, ...]:
         """The coupling blocks of k kept modes at P = 2K + 2m + 1 angles, with m harmonics
         (built once per (k, m)): synthesis E (P, 2m+1) of sum_a x_a e^(i a theta), the
-        blocks hl (P, n-k, k, 1 + Pc + Pk) and lh (P, k, n-k, 1 + Pc + Pk) of M, C_p, K_p
-        (real). No product of a coefficient harmonic |d| <= K with a harmonic |b| <= m
+        blocks hl (P, n-k, Q k) and lh (P, k, (n-k) Q) of the Q = 1 + Pc + Pk terms M, C_p, K_p
+        (real; column index q k + c of hl, r Q + q of lh). No product of a coefficient harmonic |d| <= K with a harmonic |b| <= m
         aliases onto a harmonic |a| <= m on these angles, so the products below are the
         harmonic convolutions exactly, at O(P (n-k) k) per speed instead of O(m K (n-k) k)."""
         if (k, m) not in self._couplings:
@@ -134,8 +149,10 @@ class ReducedStability:
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
             stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)  # (2K+1, n, n, 1 + Pc + Pk)
             l, h = slice(0, k), slice(k, self.n)
-            hl, lh = (np.ascontiguousarray(synthesize(stack[:, r, c], theta)) for r, c in ((h, l), (l, h)))
-            self._couplings[k, m] = (E, hl, lh)
+            hl, lh = (synthesize(stack[:, r, c], theta) for r, c in ((h, l), (l, h)))
+            P, Q = hl.shape[0], hl.shape[-1]
+            hl = np.ascontiguousarray(hl.transpose(0, 1, 3, 2)).reshape(P, self.n - k, Q * k)
+            self._couplings[k, m] = (E, hl, np.ascontiguousarray(lh).reshape(P, k, (self.n - k) * Q))
         return self._couplings[k, m]
 
     def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray):
@@ -146,12 +163,25 @@ class ReducedStability:
         powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
         weights = np.concatenate([[s * s], np.repeat(s[None], Pc, 0), np.ones((len(powers) - 1 - Pc, s.size))])
         weights = weights * powers[:, None]  # (1 + Pc + Pk, 2m+1): s_b^2 for M, s_b w^p for C_p, w^p for K_p
-        xs = np.einsum("ja,qa,ac->jcq", E, weights, x, optimize=True)  # (P, k, Q)
-        r = np.conj(E.T) @ np.einsum("jrcq,jcq->jr", hl, xs, optimize=True) / P
-        ys = np.conj(E) @ np.conj(y)  # sum_a conj(y_a) e^(-i a theta_j), (P, k)
-        t = np.einsum("jc,jcrq->jrq", ys, lh, optimize=True)  # (P, n-k, Q)
-        sh = np.einsum("ja,jrq,qa->ar", E, t, weights, optimize=True) / P
+        Q, h = len(powers), self.n - k
+        xs = np.ascontiguousarray((E @ (weights[:, :, None] * x[None])).transpose(1, 0, 2)).reshape(P, Q * k)
+        R = np.matmul(hl, xs.view(float).reshape(P, Q * k, 2))  # real and imaginary parts, (P, n-k, 2)
+        r = np.conj(E.T) @ (R[..., 0] + 1j * R[..., 1]) / P
+        ys = np.ascontiguousarray(np.conj(E) @ np.conj(y))  # sum_a conj(y_a) e^(-i a theta_j), (P, k)
+        T = np.matmul(ys.view(float).reshape(P, k, 2).transpose(0, 2, 1), lh)  # (P, 2, (n-k) Q)
+        U = (E.T @ (T[:, 0] + 1j * T[:, 1])).reshape(2 * m + 1, h, Q)
+        sh = (U * weights.T[:, None, :]).sum(axis=-1) / P
         return r, sh
+
+    def hill_terms(self, k: int, m: int) -> np.ndarray:
+        """The reduced Hill matrix's omega-power terms (1 + Pc + Pk, N, N), N = (2m+1) k, rows
+        (a, i) and columns (b, j): M_(a-b), C_p,(a-b), K_p,(a-b) of the k kept modes (built
+        once per (k, m)); Q_ll = s_b^2 M + s_b sum_p w^p C_p + sum_p w^p K_p."""
+        if (k, m) not in self._hill:
+            l, N = slice(0, k), (2 * m + 1) * k
+            stack = np.concatenate([self.M[:, l, l, None], self.C[:, l, l], self.K[:, l, l]], axis=-1)
+            self._hill[k, m] = np.ascontiguousarray(_offsets(stack, m).transpose(4, 0, 2, 1, 3)).reshape(-1, N, N)
+        return self._hill[k, m]
 
     def ladder(self, k: int) -> _Ladder:
         """The ladder of the k-mode model (spectra of the projected samples)."""
@@ -186,18 +216,21 @@ class ReducedStability:
     def correction(self, lam: complex, w: float, m: int, k: int) -> tuple[complex, complex, str]:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
-        l, h = slice(0, k), slice(k, self.n)
-        M, C, K = (_offsets(X, m) for X in self._at(w, l, l))  # (2m+1, 2m+1, k, k)
+        h = slice(k, self.n)
+        terms = self.hill_terms(k, m)
+        Pc = self.C.shape[-1]
+        M = terms[0]
+        C = np.tensordot(w ** np.arange(Pc), terms[1: 1 + Pc], 1)
+        K = np.tensordot(w ** np.arange(len(terms) - 1 - Pc), terms[1 + Pc:], 1)
         a = np.arange(-m, m + 1)
-        N = (2 * m + 1) * k
         nu = self.mean_exponents(w, k)
         j = np.rint((nu.imag - lam.imag) / w)
         lam = lam + 1j * w * j[np.argmin(np.abs(lam + 1j * w * j - nu))]
         x = y = None
         for _ in range(3):
             s = lam + 1j * a * w  # s_b per column harmonic b
-            Qll = s[None, :, None, None] ** 2 * M + s[None, :, None, None] * C + K
-            x, y = _null_vectors(Qll.transpose(0, 2, 1, 3).reshape(N, N))
+            sc = np.repeat(s, k)
+            x, y = _null_vectors(M * (sc * sc) + C * sc + K)
             x, y = x.reshape(2 * m + 1, k), y.reshape(2 * m + 1, k)
             energy = (np.abs(x) ** 2).sum(axis=1)
             shift = int(np.rint(energy @ a / energy.sum()))
@@ -209,8 +242,8 @@ class ReducedStability:
         energy = (np.abs(x) ** 2).sum(axis=1)
         if (energy[0] + energy[-1]) / energy.sum() > EDGE_MAX:
             return lam, np.nan, "the reduced-Hill null vector reaches the outermost harmonics"
-        dQ = 2 * s[None, :, None, None] * M + C
-        denom = np.einsum("ai,abij,bj->", y.conj(), dQ, x)
+        dQ = 2 * M * sc + C
+        denom = np.conj(y.reshape(-1)) @ (dQ @ x.reshape(-1))
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
         r, sh = self._coupled(w, k, m, s, x, y)  # s_h[b] = sum_a y_a^H Q_lh[a, b]
@@ -296,3 +329,55 @@ def reduced_choices(stage, w: np.ndarray):
     exps, done, reasons, records = stage.prepared("reduced").solve(w, stage.m)
     names = np.where(done, "reduced", "auto").astype(object)
     return names, reasons, exps, done, records
+
+
+def reduced_costs(stage, w: np.ndarray) -> np.ndarray:
+    """Estimated seconds (S,) of the method "reduced" at the speeds w (S,) rad/s where "auto"
+    takes it, inf elsewhere. It takes it on models of at least AUTO_MIN_COORDINATES
+    coordinates (positive definite mean mass) whose guarded mode count k leaves modes out,
+    where the reduced ladder's first comparison plus the correction (CORRECTION_COST) is
+    estimated cheaper than (n/k)^3 times that first comparison (a lower bound of the full
+    ladder's: more coordinates, at least as stiff); the estimate is LADDER_CLIMB times the
+    first comparison plus the correction."""
+    n, out = stage.n, np.full(w.size, np.inf)
+    if n < AUTO_MIN_COORDINATES:
+        return out
+    try:
+        R = stage.prepared("reduced")
+    except (np.linalg.LinAlgError, ValueError):  # no positive definite mean mass: no mean modes
+        return out
+    k = np.array([guarded_modes(R.modes, START_MODES, stage.m, wi) for wi in w])
+    for kk in np.unique(k[k < n]):
+        group = np.nonzero(k == kk)[0]
+        first = R.ladder(int(kk)).first_cost(w[group])
+        correction = CORRECTION_COST[0] * ((2 * stage.m + 1) * kk) ** 3 + CORRECTION_COST[1]
+        out[group] = np.where(first + correction < (n / kk) ** 3 * first, LADDER_CLIMB * first + correction, np.inf)
+    return out
+
+
+def reduced_pays(stage, w: np.ndarray) -> np.ndarray:
+    """Speeds w (S,) where "auto" takes the method "reduced" (:func:`reduced_costs`)."""
+    return np.isfinite(reduced_costs(stage, w))
+
+
+def reduced_first(stage, w: np.ndarray, full):
+    """"auto" per speed in a sweep: the reduced method where :func:`reduced_pays`, and
+    ``full(stage, w)`` -> (names, reasons, exponents, solved) (the full model's rule) at the
+    other speeds and where it did not certify; the records of the reduced method (their
+    fill values elsewhere)."""
+    S = w.size
+    use = reduced_pays(stage, w)
+    records = {"reduced_modes": np.zeros(S, np.int32), "reduced_correction": np.full(S, np.nan),
+               "stability_error_bound": np.full(S, np.nan)}
+    names, reasons = np.full(S, "reduced", dtype=object), np.full(S, "", dtype=object)
+    exps, solved = np.full((S, 2 * stage.n), np.nan + 0j), np.zeros(S, bool)
+    if use.any():
+        at = np.nonzero(use)[0]
+        exps[at], solved[at], reasons[at], rec = stage.prepared("reduced").solve(w[at], stage.m)
+        for name, values in rec.items():
+            records[name][at] = values
+    rest = np.nonzero(~solved)[0]
+    if rest.size:
+        names[rest], why, exps[rest], solved[rest] = full(stage, w[rest])
+        reasons[rest] = [f"{r}; {y}" if r else y for r, y in zip(reasons[rest], why)]
+    return names, reasons, exps, solved, records

@@ -39,7 +39,8 @@ def test_the_vocabulary_is_the_registry():
     with pytest.raises(InputError, match="registered already"):
         methods.register(methods.REGISTRY["dense"])
     assert methods.method_named("auto").rule == (
-        "auto: Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
+        "auto: on element models where it is estimated cheaper the method reduced, then "
+        "Magnus monodromy with step doubling where its error estimate (Richardson, N vs N/2 steps) is "
         "below the stability tolerance and the verdict cannot flip, at less than the estimated cost of Hill; "
         "else dense or sparse Hill, whichever is estimated cheaper (per point: variable stability_method)")
 
