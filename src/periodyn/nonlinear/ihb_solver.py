@@ -36,6 +36,8 @@ from ..numerics.spectra import min_samples, sample_angles
 from .ihb_fourier import complex_to_real, derivative_matrix, real_to_complex
 from .ihb_jacobian import JacobianPattern, block_needs
 from .orbit_linearization import linearize_orbit, orbit_exponents
+from ..stability.methods import flow_choice
+from ..stability.orbit_flow import flow_exponents, stiffness
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -214,8 +216,37 @@ class IHBProblem:
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
+    def state_samples(self, X, omega, params=None) -> np.ndarray:
+        """State matrices A (p, 2n, 2n) (1/s) of the perturbation y' = A y, y = (dq, dq'), of
+        the unconstrained orbit X at its sample times: dq'' = M^-1 (df/dq - d(M q'')/dq) dq
+        + M^-1 df/dq' dq'."""
+        P = self.system.parameters if params is None else params
+        sysm, n = self.system, self.n
+        t, q, qd, qdd, _ = self.time_samples(X, omega)
+        Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        if sysm.mass_jacobian is not None:
+            Kf = Kf - sysm.mass_jacobian(q, qdd)
+        A = np.zeros((self.p, 2 * n, 2 * n))
+        A[:, :n, n:] = np.eye(n)
+        M = sysm.mass(q)
+        if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
+            A[:, n:, :n], A[:, n:, n:] = Kf, Cf
+        else:
+            A[:, n:] = np.linalg.solve(M, np.concatenate([Kf, Cf], axis=2))
+        return A
+
     def exponents(self, X, omega, params=None, method="magnus"):
-        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu)."""
+        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).
+        method "auto" on an unconstrained orbit not too stiff by the registry's rule
+        (:func:`periodyn.stability.methods.flow_choice`) takes the certified Magnus flow of
+        its samples (:mod:`periodyn.stability.orbit_flow`), and the linearized orbit's
+        "auto" where that does not certify."""
+        if method == "auto" and not self.m:
+            A = self.state_samples(X, omega, params)
+            use, why = flow_choice(stiffness(A, omega, self.nu))
+            exps = flow_exponents(A, omega, self.nu) if use else None
+            if exps is not None:
+                return replace(exps, reason=f"{why}; {exps.reason}")
         exps = orbit_exponents(self.linearization(X, omega, params), method)
         return replace(exps, omega=float(omega), subharmonic=self.nu)
 

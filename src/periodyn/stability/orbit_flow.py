@@ -1,0 +1,97 @@
+"""Certified Magnus monodromy of a small orbit straight from its samples.
+
+An orbit's perturbation ``y' = A(tau) y`` (y = (dq, dq'), tau = Om t over one orbit
+period T = 2 pi / Om) is known at the p equidistant angles where harmonic balance
+samples it. Its trigonometric interpolant (harmonics up to (p - 1) // 2, the ones the
+samples resolve) is taken at the Gauss angles of N equal steps through a fixed (3N, p)
+matrix, and the 6th-order Magnus kernel
+(:func:`periodyn.kernels.solvers.floquet.magnus6_product`) gives the monodromy matrix.
+Step doubling N = START, 2 START, ... certifies it as the stability method "auto" does
+(:class:`periodyn.stability.magnus.MagnusLadder`, whose error test this is: the change
+of log max|mu| and of the sorted moduli between N / 2 and N steps, at least ERROR_FLOOR,
+at most STABILITY_TOL max(1, |log max|mu||), and the verdict not within it). No spectra,
+no reduced system object, no ladder set-up: for a one- or two-degree-of-freedom orbit
+the whole analysis is a few small matrix products per step.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from ..kernels.solvers.floquet import magnus6_product
+from .floquet import STABILITY_TOL, FloquetExponents
+from .magnus import ERROR_FLOOR, gauss_angles
+
+__all__ = ["flow_exponents", "half_period", "stiffness", "interpolation_matrix", "START", "LARGEST"]
+
+START, LARGEST = 8, 1024  # steps of the coarsest rung (compared with START / 2), most steps
+
+
+@lru_cache(maxsize=32)
+def interpolation_matrix(p: int, steps: int) -> np.ndarray:
+    """(3 steps, p): values at the order-6 Gauss angles of ``steps`` steps over 2 pi of the
+    trigonometric interpolant (harmonics 0..(p-1)//2) of p samples at 2 pi j / p."""
+    theta = gauss_angles(steps, points=3)
+    diff = theta[:, None] - 2 * np.pi * np.arange(p)[None, :] / p
+    k = np.arange(1, (p - 1) // 2 + 1)
+    return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
+
+
+def _monodromy(A: np.ndarray, steps: int, period: float) -> np.ndarray:
+    d = A.shape[1]
+    At = np.ascontiguousarray((interpolation_matrix(A.shape[0], steps) @ A.reshape(A.shape[0], -1)).reshape(-1, d, d))
+    phi = np.empty((d, d))
+    magnus6_product(At, period / steps, phi)
+    return phi
+
+
+def half_period(A: np.ndarray) -> bool:
+    """Whether samples A (p, d, d) over one period repeat after half of it (p even, to
+    1e-12 of their largest entry): then the monodromy is Phi(T/2)^2."""
+    p = A.shape[0]
+    return p % 2 == 0 and bool(np.max(np.abs(A[p // 2:] - A[:p // 2])) <= 1e-12 * np.max(np.abs(A)))
+
+
+def stiffness(A: np.ndarray, omega: float, subharmonic: int = 1) -> float:
+    """max_j ||A_j||_1 T: the size of the generator over one orbit period (Magnus needs
+    steps in proportion to it; the ladder of "auto" balances stiff systems first)."""
+    return float(np.abs(A).sum(axis=1).max()) * 2 * np.pi * subharmonic / float(omega)
+
+
+def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1) -> FloquetExponents | None:
+    """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s) at
+    t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
+    rad/s), certified by step doubling (module docstring); None when LARGEST steps do not
+    certify them (or the monodromy is not finite). Samples that repeat after half a period
+    (:func:`half_period`) are integrated over that half only."""
+    period = 2 * np.pi * subharmonic / float(omega)
+    half = half_period(A)
+    if half:
+        A, period = A[:A.shape[0] // 2], period / 2
+    prev = None
+    steps = START // 2
+    while steps <= LARGEST:
+        phi = _monodromy(A, steps, period)
+        if half:
+            phi = phi @ phi
+        if not np.isfinite(phi).all():
+            return None
+        mu = np.linalg.eigvals(phi)
+        mod = np.sort(np.abs(mu))
+        if mod[-1] == 0:
+            return None
+        G = float(np.log(mod[-1]))
+        if prev is not None:
+            err = max(abs(G - prev[0]), float(np.max(np.abs(mod - prev[1]))) / mod[-1], ERROR_FLOOR)
+            if err <= STABILITY_TOL * max(1.0, abs(G)) and abs(G - STABILITY_TOL) > err:
+                exps = FloquetExponents.from_multipliers(mu, omega, "magnus", subharmonic)
+                order = np.lexsort((exps.exponents.imag, exps.exponents.real))
+                span = " per half period" if half else ""
+                return FloquetExponents(exps.omega, exps.exponents[order], exps.centroid, exps.edge, "magnus",
+                                        exps.subharmonic, reason=f"Magnus of order 6 on the orbit's samples with "
+                                        f"{steps} steps{span}: estimated error {err:.1g} (tolerance {STABILITY_TOL:g})")
+        prev = (G, mod)
+        steps *= 2
+    return None
