@@ -60,6 +60,17 @@ def stiffness(A: np.ndarray, omega: float, subharmonic: int = 1) -> float:
     return float(np.abs(A).sum(axis=1).max()) * 2 * np.pi * subharmonic / float(omega)
 
 
+def _eigvals(phi: np.ndarray) -> np.ndarray:
+    """Eigenvalues of a real square matrix; 2 x 2 in closed form (the larger root first,
+    the other from the determinant: no cancellation)."""
+    if phi.shape[0] != 2:
+        return np.linalg.eigvals(phi)
+    half, det = 0.5 * (phi[0, 0] + phi[1, 1]), phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
+    root = np.sqrt(complex(half * half - det))
+    big = half + root if half >= 0 else half - root
+    return np.array([big, det / big if big != 0 else 0.0], dtype=complex)
+
+
 def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1) -> FloquetExponents | None:
     """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s) at
     t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
@@ -78,7 +89,7 @@ def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1) -> Floquet
             phi = phi @ phi
         if not np.isfinite(phi).all():
             return None
-        mu = np.linalg.eigvals(phi)
+        mu = _eigvals(phi)
         mod = np.sort(np.abs(mu))
         if mod[-1] == 0:
             return None

@@ -93,3 +93,12 @@ def test_ihb_auto_takes_the_flow_and_matches_the_linearized_monodromy(omega):
     assert "Magnus flow of the orbit's samples" in fl.reason
     assert np.allclose(np.sort(np.abs(fl.multipliers)), np.sort(np.abs(ref.multipliers)), rtol=1e-8)
     assert fl.omega == omega and fl.stable == ref.stable
+
+
+@pytest.mark.parametrize("phi", [[[0.9, 0.3], [-0.4, 0.8]], [[2.0, 1.0], [1.0, 3.0]], [[1e8, 1.0], [0.0, 1e-8]],
+                                 [[0.0, 0.0], [0.0, 0.0]], [[-1.0, 0.5], [0.0, -1.0]]])
+def test_two_by_two_eigenvalues_match_lapack(phi):
+    from periodyn.stability.orbit_flow import _eigvals
+    phi = np.array(phi)
+    got, ref = np.sort_complex(_eigvals(phi)), np.sort_complex(np.linalg.eigvals(phi))
+    assert np.allclose(got, ref, rtol=1e-12, atol=1e-300)
