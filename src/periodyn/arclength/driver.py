@@ -23,7 +23,7 @@ from ..nonlinear.implicit import STEPS, ImplicitProblem
 from ..nonlinear.shooting_solver import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .events import KINDS, branch_test, classify, crossing_test, illinois, nearest_of_kind, same_point
-from .palc import Arc, first_point, trace
+from .palc import Arc, difference_step, first_point, trace
 
 __all__ = ["ContinuationOptions", "trace_branch"]
 
@@ -42,9 +42,8 @@ class ContinuationOptions:
     (default from H); subharmonic: nu (orbit period 2 pi nu / omega); stability: a method of
     ``orbit_exponents`` or None (IHB; shooting has its monodromy; default "auto", the registry's
     rule, with fixed-step Magnus at refined special points); shooting_samples: orbit samples of a shooting solution; confirm: True
-    checks every special point (``confirm_special_points``, its defaults: truncation, then
-    direct integration), "truncation" (the default) only against more harmonics
-    (``check_truncation``: IHB branches), False not at all;
+    checks every special point (``confirm_special_points``, its defaults: truncation, then direct
+    integration), "truncation" (default) only against more harmonics (``check_truncation``: IHB), False not at all;
     shooting_method: "DOP853" (adaptive, variational equations), "implicit" (element
     models: the trapezoidal one-period map of ``periodyn.nonlinear.implicit`` with
     shooting_steps steps, the stiff case) or "auto" (implicit for element models, else DOP853).
@@ -214,8 +213,9 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     if method not in ("ihb", "shooting"):
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
-    if method == "ihb":
-        disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    if method == "ihb":  # a frequency response: dR/domega with the samples of X taken once
+        disc = _IHB(system, harmonics, opts, initial, *at(p0))
+        dR_dp = (lambda X, p: disc.prob.omega_derivative(X, p, difference_step(p))) if name is None else None
     elif _implicit(system, opts):
         if name is not None:
             raise InputError("shooting on the implicit map continues omega only; give shooting_method='DOP853' "
@@ -225,7 +225,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
-              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=isinstance(disc, _Shooting),
               reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
 
     def record(pt, refine=False):

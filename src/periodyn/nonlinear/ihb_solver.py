@@ -88,6 +88,7 @@ class IHBProblem:
         k = np.arange(1, self.H + 1)
         self._E = np.hstack([np.ones((self.p, 1)), np.cos(np.outer(self.theta, k)), np.sin(np.outer(self.theta, k))])
         self._ED, self._EDD = self._E @ self.D, self._E @ self.D @ self.D  # samples of d/dtau, d2/dtau2
+        self._E3 = np.vstack([self._E, self._ED, self._EDD])  # all three in one product (time_samples)
         self._Pr = self._E.T * np.concatenate([[1.0], np.full(2 * self.H, 2.0)])[:, None] / self.p  # Galerkin
         self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
         self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
@@ -125,18 +126,18 @@ class IHBProblem:
             raise InputError(f"solution has subharmonic {sol.subharmonic}, problem {self.nu}")
         Hs = (sol.harmonics.shape[0] - 1) // 2
         pad = max(0, self.H - Hs)
-        cq = np.pad(sol.harmonics, ((pad, pad), (0, 0)))
         lam = sol.lambda_harmonics if sol.lambda_harmonics is not None else np.zeros((2 * Hs + 1, self.m))
-        cl = np.pad(lam, ((pad, pad), (0, 0)))
+        cq, cl = (np.pad(c, ((pad, pad), (0, 0))) if pad else c for c in (sol.harmonics, lam))
         return self.join(complex_to_real(cq, self.H), complex_to_real(cl, self.H))
 
     # ------------------------------------------------------------------ AFT
     def time_samples(self, X: np.ndarray, omega: float):
         """Samples over one orbit: t (p,), q, q', q'' (p, n), lambda (p, m)."""
-        Om = omega / self.nu
+        Om, p = omega / self.nu, self.p
         Aq, Al = self.split(X)
-        lam = self._E @ Al if self.m else np.zeros((self.p, 0))
-        return self.theta / Om, self._E @ Aq, Om * (self._ED @ Aq), Om ** 2 * (self._EDD @ Aq), lam
+        lam = self._E @ Al if self.m else np.zeros((p, 0))
+        S = self._E3 @ Aq
+        return self.theta / Om, S[:p], Om * S[p:2 * p], Om ** 2 * S[2 * p:], lam
 
     def residual(self, X: np.ndarray, omega: float, params=None) -> np.ndarray:
         """R(X), shape (size,)."""
@@ -145,6 +146,19 @@ class IHBProblem:
     def residual_jacobian(self, X: np.ndarray, omega: float, params=None):
         """(R (size,), J sparse csc (size, size))."""
         return self._evaluate(X, omega, params, jacobian=True)
+
+    def omega_derivative(self, X: np.ndarray, omega: float, h: float, params=None) -> np.ndarray:
+        """(R(X, omega + h) - R(X, omega - h)) / 2h, (size,): the central difference of the
+        continuation's bordered rows, with the samples of X taken once (q', q'' scale with
+        omega) and one projection."""
+        P = self.system.parameters if params is None else params
+        p, nu = self.p, self.nu
+        Aq, Al = self.split(X)
+        S = self._E3 @ Aq
+        lam = self._E @ Al if self.m else np.zeros((p, 0))
+        (a1, a2), (b1, b2) = (self._sampled(self.theta / (w / nu), S[:p], (w / nu) * S[p:2 * p],
+                                            (w / nu) ** 2 * S[2 * p:], lam, w, P)[:2] for w in (omega + h, omega - h))
+        return self.join(self._Pr @ ((a1 - b1) / (2 * h)), self._Pr @ ((a2 - b2) / (2 * h)))
 
     def sampled_residual(self, X: np.ndarray, omega: float, params=None):
         """The DAE residual at the p sample times, before projection: (t (p,), r1 =
