@@ -91,6 +91,8 @@ class IHBProblem:
         self._E3 = np.vstack([self._E, self._ED, self._EDD])  # all three in one product (time_samples)
         self._Pr = self._E.T * np.concatenate([[1.0], np.full(2 * self.H, 2.0)])[:, None] / self.p  # Galerkin
         self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
+        M0 = system.mass(np.tile(np.asarray(system.q0, float), (self.p, 1)))
+        self._mass = M0 if M0.strides[0] == 0 else None  # a constant mass: its (p, n, n) view, kept
         self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
@@ -171,7 +173,7 @@ class IHBProblem:
     def _sampled(self, t, q, qd, qdd, lam, omega, P):
         """(r1, r2, f, M, Phi_q) at the samples (r2, Phi_q empty without constraints)."""
         sysm = self.system
-        M = sysm.mass(q)
+        M = self._mass if self._mass is not None and len(q) == self.p else sysm.mass(q)
         Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
         f = sysm.force(q, qd, t, omega, P)
         r1 = Ma - f
