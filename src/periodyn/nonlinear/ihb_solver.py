@@ -243,7 +243,7 @@ class IHBProblem:
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
         A = np.zeros((self.p, 2 * n, 2 * n))
-        A[:, :n, n:] = np.eye(n)
+        A[:, range(n), range(n, 2 * n)] = 1.0
         M = sysm.mass(q)
         if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
             A[:, n:, :n], A[:, n:, n:] = Kf, Cf
@@ -260,9 +260,9 @@ class IHBProblem:
         if method == "auto" and not self.m:
             A = self.state_samples(X, omega, params)
             use, why = flow_choice(stiffness(A, omega, self.nu))
-            exps = flow_exponents(A, omega, self.nu) if use else None
+            exps = flow_exponents(A, omega, self.nu, why) if use else None
             if exps is not None:
-                return replace(exps, reason=f"{why}; {exps.reason}")
+                return exps
         exps = orbit_exponents(self.linearization(X, omega, params), method)
         return replace(exps, omega=float(omega), subharmonic=self.nu)
 

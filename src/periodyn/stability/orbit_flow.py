@@ -16,6 +16,7 @@ the whole analysis is a few small matrix products per step.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -71,38 +72,38 @@ def _eigvals(phi: np.ndarray) -> np.ndarray:
     return np.array([big, det / big if big != 0 else 0.0], dtype=complex)
 
 
-def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1) -> FloquetExponents | None:
+def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1, reason: str = "") -> FloquetExponents | None:
     """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s) at
     t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
     rad/s), certified by step doubling (module docstring); None when LARGEST steps do not
     certify them (or the monodromy is not finite). Samples that repeat after half a period
-    (:func:`half_period`) are integrated over that half only."""
+    (:func:`half_period`) are integrated over that half only. reason: why this method (kept,
+    followed by the steps and the error estimate, on the result)."""
     period = 2 * np.pi * subharmonic / float(omega)
     half = half_period(A)
-    if half:
-        A, period = A[:A.shape[0] // 2], period / 2
-    prev = None
+    span = A[:A.shape[0] // 2] if half else A
+    G0 = mod0 = None
     steps = START // 2
     while steps <= LARGEST:
-        phi = _monodromy(A, steps, period)
+        phi = _monodromy(span, steps, period / 2 if half else period)
         if half:
             phi = phi @ phi
-        if not np.isfinite(phi).all():
+        if not math.isfinite(phi.sum()):
             return None
         mu = _eigvals(phi)
         mod = np.sort(np.abs(mu))
-        if mod[-1] == 0:
+        if not mod[-1] > 0:
             return None
-        G = float(np.log(mod[-1]))
-        if prev is not None:
-            err = max(abs(G - prev[0]), float(np.max(np.abs(mod - prev[1]))) / mod[-1], ERROR_FLOOR)
+        G = math.log(mod[-1])
+        if G0 is not None:
+            err = max(abs(G - G0), float(np.abs(mod - mod0).max()) / mod[-1], ERROR_FLOOR)
             if err <= STABILITY_TOL * max(1.0, abs(G)) and abs(G - STABILITY_TOL) > err:
-                exps = FloquetExponents.from_multipliers(mu, omega, "magnus", subharmonic)
-                order = np.lexsort((exps.exponents.imag, exps.exponents.real))
-                span = " per half period" if half else ""
-                return FloquetExponents(exps.omega, exps.exponents[order], exps.centroid, exps.edge, "magnus",
-                                        exps.subharmonic, reason=f"Magnus of order 6 on the orbit's samples with "
-                                        f"{steps} steps{span}: estimated error {err:.1g} (tolerance {STABILITY_TOL:g})")
-        prev = (G, mod)
+                lam = np.log(mu.astype(complex)) / period  # principal values
+                nan = np.full(lam.size, np.nan)
+                how = (f"Magnus of order 6 on the orbit's samples with {steps} steps"
+                       f"{' per half period' if half else ''}: estimated error {err:.1g} (tolerance {STABILITY_TOL:g})")
+                return FloquetExponents(float(omega), lam[np.lexsort((lam.imag, lam.real))], nan, nan.copy(), "magnus",
+                                        int(subharmonic), reason=f"{reason}; {how}" if reason else how)
+        G0, mod0 = G, mod
         steps *= 2
     return None
