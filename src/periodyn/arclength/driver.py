@@ -233,7 +233,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         return disc.solution(pt.X, *at(pt.p), pt.residual, pt.iterations, exps)
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
-    sols = [record(pts[0], refine=True)]  # precise: a switched branch starts on its special point
+    sols = [record(pts[0], refine=tangent is not None)]  # precise: a switched branch starts on its special point
     specials, status, loose, unknowns = [], "", set(), {}
     bounds = (min(p0, p1), max(p0, p1)) if tangent is None else None  # a switched branch may turn back past its start
     for item in trace(arc, pts[0], p1, ds=opts.ds, ds_min=opts.ds_min, ds_max=opts.ds_max, max_points=opts.max_points,
@@ -327,7 +327,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
             out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed, None))
             continue
         X, p, rn, tests = found
-        exps = disc.exponents(X, *at(p), refine=True)
+        exps = disc.exponents(X, *at(p), refine=typ != "fold")  # a fold's test is dp/ds, not the multipliers
         sol = disc.solution(X, *at(p), rn, 0, exps)
         if typ != "fold":
             mu = sol.multipliers

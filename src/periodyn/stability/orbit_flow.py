@@ -20,6 +20,7 @@ import math
 from functools import lru_cache
 
 import numpy as np
+import scipy.linalg as sla
 
 from ..kernels.solvers.floquet import magnus6_product
 from .floquet import STABILITY_TOL, FloquetExponents
@@ -65,7 +66,7 @@ def _eigvals(phi: np.ndarray) -> np.ndarray:
     """Eigenvalues of a real square matrix; 2 x 2 in closed form (the larger root first,
     the other from the determinant: no cancellation)."""
     if phi.shape[0] != 2:
-        return np.linalg.eigvals(phi)
+        return sla.eigvals(phi, overwrite_a=True, check_finite=False)
     half, det = 0.5 * (phi[0, 0] + phi[1, 1]), phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
     root = np.sqrt(complex(half * half - det))
     big = half + root if half >= 0 else half - root
@@ -86,11 +87,9 @@ def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1, reason: st
     steps = START // 2
     while steps <= LARGEST:
         phi = _monodromy(span, steps, period / 2 if half else period)
-        if half:
-            phi = phi @ phi
         if not math.isfinite(phi.sum()):
             return None
-        mu = _eigvals(phi)
+        mu = _eigvals(phi) ** 2 if half else _eigvals(phi)  # eig(Phi(T/2)^2) = eig(Phi(T/2))^2
         mod = np.sort(np.abs(mu))
         if not mod[-1] > 0:
             return None
