@@ -93,6 +93,7 @@ class IHBProblem:
         self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
         M0 = system.mass(np.tile(np.asarray(system.q0, float), (self.p, 1)))
         self._mass = M0 if M0.strides[0] == 0 else None  # a constant mass: its (p, n, n) view, kept
+        self._last = None  # samples and df/dq' of the latest Jacobian evaluation (omega_derivative)
         self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
@@ -150,11 +151,21 @@ class IHBProblem:
         return self._evaluate(X, omega, params, jacobian=True)
 
     def omega_derivative(self, X: np.ndarray, omega: float, h: float, params=None) -> np.ndarray:
-        """(R(X, omega + h) - R(X, omega - h)) / 2h, (size,): the central difference of the
-        continuation's bordered rows, with the samples of X taken once (q', q'' scale with
-        omega) and one projection."""
+        """dR/domega at X (size,) for the continuation's bordered rows: the central difference
+        (R(X, omega + h) - R(X, omega - h)) / 2h with the samples of X taken once (q', q''
+        scale with omega) and one projection; right after the Jacobian at the same point of an
+        unconstrained system, the chain rule through q', q'' with its df/dq' and the difference
+        of the force's explicit dependence on t and omega alone."""
         P = self.system.parameters if params is None else params
-        p, nu = self.p, self.nu
+        p, nu, last = self.p, self.nu, self._last
+        if not self.m and last is not None and last[1] == omega and last[2] == P and np.array_equal(last[0], X):
+            # the Jacobian's samples at this point: q fixed, q' and q'' scale with omega (d/domega: q'/omega,
+            # 2 q''/omega), the force's explicit dependence on t = tau nu / omega and omega by the difference
+            _, _, _, q, qd, qdd, M, Cf = last
+            f1, f2 = (self.system.force(q, qd, self.theta / (w / nu), w, P) for w in (omega + h, omega - h))
+            Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]
+            d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f2) / (2 * h)
+            return self.join(self._Pr @ d1, np.zeros((self.L, 0)))
         Aq, Al = self.split(X)
         S = self._E3 @ Aq
         lam = self._E @ Al if self.m else np.zeros((p, 0))
@@ -192,6 +203,7 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        self._last = (X.copy(), omega, P, q, qd, qdd, M, Cf)  # for omega_derivative at the same point
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)

@@ -51,3 +51,23 @@ def test_state_samples_with_a_non_unit_mass():
     fl, ref = prob.exponents(X, 0.7, None, "auto"), prob.exponents(X, 0.7, None, "monodromy")
     assert "flow" in fl.reason
     assert np.allclose(np.sort(np.abs(fl.multipliers)), np.sort(np.abs(ref.multipliers)), rtol=1e-8)
+
+
+@pytest.mark.parametrize("nu", [1, 2])
+def test_chain_rule_after_the_jacobian_matches_the_difference(nu):
+    """Right after the Jacobian at the same point (the corrector's order), the chain-rule path;
+    a force with an explicit omega dependence (unbalance omega^2 cos(omega t)) and a q'-dependent
+    damping exercise both of its parts."""
+    def force(q, qd, t, w):
+        return -0.05 * qd * (1 + q ** 2) - q - 0.1 * q ** 3 + 0.02 * w ** 2 * np.cos(w * t)[:, None]
+
+    s = periodyn.DAE(np.array([[1.5]]), force, vectorized=True)
+    prob = IHBProblem(s, 5, subharmonic=nu)
+    X = 0.3 * np.random.default_rng(7).normal(size=prob.size)
+    w, h = 1.1, 1.1e-6
+    ref = (prob.residual(X, w + h) - prob.residual(X, w - h)) / (2 * h)
+    prob.residual_jacobian(X, w)
+    assert prob._last is not None
+    assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
+    prob.residual_jacobian(X + 1e-3, w)  # another point: the difference path again
+    assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
