@@ -157,11 +157,11 @@ class IHBProblem:
         unconstrained system, the chain rule through q', q'' with its df/dq' and the difference
         of the force's explicit dependence on t and omega alone."""
         P = self.system.parameters if params is None else params
-        p, nu, last = self.p, self.nu, self._last
-        if not self.m and last is not None and last[1] == omega and last[2] == P and np.array_equal(last[0], X):
+        p, nu, last = self.p, self.nu, self._at_last(X, omega, P)
+        if not self.m and last is not None:
             # the Jacobian's samples at this point: q fixed, q' and q'' scale with omega (d/domega: q'/omega,
             # 2 q''/omega), the force's explicit dependence on t = tau nu / omega and omega by the difference
-            _, _, _, q, qd, qdd, M, Cf = last
+            q, qd, qdd, M, Cf = last[4:8] + last[9:]
             f1, f2 = (self.system.force(q, qd, self.theta / (w / nu), w, P) for w in (omega + h, omega - h))
             Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]
             d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f2) / (2 * h)
@@ -172,6 +172,11 @@ class IHBProblem:
         (a1, a2), (b1, b2) = (self._sampled(self.theta / (w / nu), S[:p], (w / nu) * S[p:2 * p],
                                             (w / nu) ** 2 * S[2 * p:], lam, w, P)[:2] for w in (omega + h, omega - h))
         return self.join(self._Pr @ ((a1 - b1) / (2 * h)), self._Pr @ ((a2 - b2) / (2 * h)))
+
+    def _at_last(self, X, omega, P):
+        """The latest Jacobian evaluation's samples if it was at (X, omega, P), else None."""
+        last = self._last
+        return last if last is not None and last[1] == omega and last[2] == P and np.array_equal(last[0], X) else None
 
     def sampled_residual(self, X: np.ndarray, omega: float, params=None):
         """The DAE residual at the p sample times, before projection: (t (p,), r1 =
@@ -203,7 +208,7 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
-        self._last = (X.copy(), omega, P, q, qd, qdd, M, Cf)  # for omega_derivative at the same point
+        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_samples there
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)
@@ -249,14 +254,16 @@ class IHBProblem:
         the unconstrained orbit X at its sample times: dq'' = M^-1 (df/dq - d(M q'')/dq) dq
         + M^-1 df/dq' dq'."""
         P = self.system.parameters if params is None else params
-        sysm, n = self.system, self.n
-        t, q, qd, qdd, _ = self.time_samples(X, omega)
-        Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
+        if last is not None:  # the corrector's last Jacobian was at this orbit
+            t, q, qd, qdd, M, Kf, Cf = last[3:]
+        else:
+            t, q, qd, qdd, _ = self.time_samples(X, omega)
+            M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
         A = np.zeros((self.p, 2 * n, 2 * n))
         A[:, range(n), range(n, 2 * n)] = 1.0
-        M = sysm.mass(q)
         if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
             A[:, n:, :n], A[:, n:, n:] = Kf, Cf
         else:

@@ -71,3 +71,14 @@ def test_chain_rule_after_the_jacobian_matches_the_difference(nu):
     assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
     prob.residual_jacobian(X + 1e-3, w)  # another point: the difference path again
     assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
+
+
+def test_state_samples_reuse_the_last_jacobian_samples():
+    s = duffing(2.0)
+    prob = IHBProblem(s, 5)
+    X = 0.3 * np.random.default_rng(11).normal(size=prob.size)
+    fresh = prob.state_samples(X, 0.9)
+    prob.residual_jacobian(X, 0.9)
+    assert prob._at_last(X, 0.9, s.parameters) is not None
+    assert np.array_equal(prob.state_samples(X, 0.9), fresh)
+    assert prob._at_last(X, 0.91, s.parameters) is None
