@@ -9,9 +9,10 @@ matrix, and the 6th-order Magnus kernel
 Step doubling N = START, 2 START, ... certifies it as the stability method "auto" does
 (:class:`periodyn.stability.magnus.MagnusLadder`, whose error test this is: the change
 of log max|mu| and of the sorted moduli between N / 2 and N steps, at least ERROR_FLOOR,
-at most STABILITY_TOL max(1, |log max|mu||), and the verdict not within it). No spectra,
-no reduced system object, no ladder set-up: for a one- or two-degree-of-freedom orbit
-the whole analysis is a few small matrix products per step.
+at most STABILITY_TOL max(1, |log max|mu||), and the verdict not within it), from the
+ladder's first rung. No reduced system, no spectra, no ladder set-up, no balancing: the
+registry's rule (:func:`periodyn.stability.methods.flow_choice`) sends stiff orbits to the
+ladder. For a one-degree-of-freedom orbit the analysis is a few 2 x 2 products per step.
 """
 
 from __future__ import annotations
@@ -24,11 +25,11 @@ import scipy.linalg as sla
 
 from ..kernels.solvers.floquet import magnus6_product
 from .floquet import STABILITY_TOL, FloquetExponents
-from .magnus import ERROR_FLOOR, gauss_angles
+from .magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
 
 __all__ = ["flow_exponents", "half_period", "stiffness", "interpolation_matrix", "START", "LARGEST"]
 
-START, LARGEST = 8, 1024  # steps of the coarsest rung (compared with START / 2), most steps
+START, LARGEST = MagnusLadder.START[6], 1024  # steps of the first compared rung (against START / 2), most steps
 
 
 @lru_cache(maxsize=32)
