@@ -42,11 +42,16 @@ def interpolation_matrix(p: int, steps: int) -> np.ndarray:
     return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
 
 
-def _monodromy(A: np.ndarray, steps: int, period: float) -> np.ndarray:
-    d = A.shape[1]
-    At = np.ascontiguousarray((interpolation_matrix(A.shape[0], steps) @ A.reshape(A.shape[0], -1)).reshape(-1, d, d))
+def _monodromy(A: np.ndarray, varying: np.ndarray, steps: int, period: float) -> np.ndarray:
+    """Monodromy matrix over ``period`` (s) with ``steps`` order-6 Magnus steps from samples
+    A (p, d, d); only the entries ``varying`` (flat indices) differ between samples (the
+    interpolant of the others is their constant value)."""
+    p, d = A.shape[:2]
+    flat = A.reshape(p, -1)
+    At = np.repeat(flat[:1], 3 * steps, axis=0)
+    At[:, varying] = interpolation_matrix(p, steps) @ flat[:, varying]
     phi = np.empty((d, d))
-    magnus6_product(At, period / steps, phi)
+    magnus6_product(At.reshape(-1, d, d), period / steps, phi)
     return phi
 
 
@@ -84,10 +89,12 @@ def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1, reason: st
     period = 2 * np.pi * subharmonic / float(omega)
     half = half_period(A)
     span = A[:A.shape[0] // 2] if half else A
+    flat = span.reshape(span.shape[0], -1)
+    varying = np.nonzero((flat != flat[0]).any(axis=0))[0]
     G0 = mod0 = None
     steps = START // 2
     while steps <= LARGEST:
-        phi = _monodromy(span, steps, period / 2 if half else period)
+        phi = _monodromy(span, varying, steps, period / 2 if half else period)
         if not math.isfinite(phi.sum()):
             return None
         mu = _eigvals(phi) ** 2 if half else _eigvals(phi)  # eig(Phi(T/2)^2) = eig(Phi(T/2))^2
