@@ -22,7 +22,7 @@ from ..nonlinear.shooting_solver import ShootingProblem, start_state
 from .branch import Branch, SpecialPoint
 from .events import (KINDS, SPECIAL_POINTS, check_events, classify, nearest_of_kind, null_vector, refine_crossing,
                      refine_fold, same_point)
-from .palc import Arc, first_point, trace
+from .palc import Arc, difference_step, first_point, trace
 
 __all__ = ["ContinuationOptions", "trace_branch"]
 
@@ -216,8 +216,9 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
 
     if method not in ("ihb", "shooting"):
         raise InputError(f"method must be 'ihb' or 'shooting', got {method!r}")
-    if method == "ihb":
-        disc, dR_dp = _IHB(system, harmonics, opts, initial, *at(p0)), None
+    if method == "ihb":  # a frequency response: dR/domega with the samples of X taken once
+        disc = _IHB(system, harmonics, opts, initial, *at(p0))
+        dR_dp = (lambda X, p: disc.prob.omega_derivative(X, p, difference_step(p))) if name is None else None
     elif _implicit(system, opts):
         if name is not None:
             raise InputError("shooting on the implicit map continues omega only; give shooting_method='DOP853' "
@@ -227,7 +228,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         disc = _Shooting(system, harmonics, opts, initial, *at(p0), parameter=name)
         dR_dp = lambda X, p: disc.parameter_derivative(X, *at(p))  # noqa: E731
     arc = Arc(lambda X, p: disc.equations(X, *at(p)), lambda X, p: disc.residual(X, *at(p)), disc.groups, disc.X0,
-              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=dR_dp is not None,
+              p0, disc.tol, opts.max_iter, dR_dp, exact_tangents=isinstance(disc, _Shooting),
               reuse=method == "ihb" and disc.prob.size >= _REUSE_SIZE)
 
     def record(pt, refine=False):
@@ -235,7 +236,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
         return disc.solution(pt.X, *at(pt.p), pt.residual, pt.iterations, exps)
 
     pts = [first_point(arc, disc.X0, p0, p1, tangent)]
-    sols = [record(pts[0], refine=True)]  # precise: a switched branch starts on its special point
+    sols = [record(pts[0], refine=tangent is not None)]  # precise: a switched branch starts on its special point
     tests = [[ev.value(sols[0], pts[0].p) for ev in opts.events]]  # user event tests at each point
     specials, status, loose, unknowns = [], "", set(), {}
     bounds = (min(p0, p1), max(p0, p1)) if tangent is None else None  # a switched branch may turn back past its start
@@ -336,7 +337,7 @@ def _special_points(arc, disc, at, a, b, sol_a, sol_b, k) -> list[tuple[SpecialP
             out.append((SpecialPoint(typ, k, float(at(p)[0]), float(p), crit, amp, None), unbracketed, None))
             continue
         X, p, rn, tests = found
-        exps = disc.exponents(X, *at(p), refine=True)
+        exps = disc.exponents(X, *at(p), refine=typ != "fold")  # a fold's test is dp/ds, not the multipliers
         sol = disc.solution(X, *at(p), rn, 0, exps)
         if typ != "fold":
             mu = sol.multipliers

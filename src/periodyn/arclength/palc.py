@@ -43,7 +43,7 @@ from ..errors import ConvergenceError, InputError
 from ..numerics.krylov import gmres
 from ..numerics.newton_iteration import lu_factor, newton
 
-__all__ = ["Arc", "ArcPoint", "land", "trace"]
+__all__ = ["Arc", "ArcPoint", "land", "trace", "difference_step"]
 
 _H_REL = 1e-6  # relative step of the central difference dR/dp
 _CHORD_RATE = 0.5  # reuse mode: a chord update must shrink the residual this much, else J is factorized
@@ -106,7 +106,7 @@ class Arc:
     def dR_dp(self, X, p) -> np.ndarray:
         if self._dR_dp is not None:
             return self._dR_dp(X, p)
-        h = _H_REL * max(abs(p), 1e-3)
+        h = difference_step(p)
         return (self.residual(X, p + h) - self.residual(X, p - h)) / (2 * h)
 
     def norm(self, d: np.ndarray) -> float:
@@ -273,6 +273,11 @@ def trace(arc: Arc, start: ArcPoint, p_stop: float, *, ds: float, ds_min: float,
         ds = min(ds * min(grow, _turn_factor(arc, prev, pt) if count > 2 else grow), ds_max)
     yield (f"max_points reached: {max_points} points ended at parameter {pt.p:.6g} before the stop {p_stop:.6g}; "
            f"raise max_points, or ds_max (now {ds_max:g}) for longer steps")
+
+
+def difference_step(p: float) -> float:
+    """Step h of the central difference dR/dp at parameter p."""
+    return _H_REL * max(abs(p), 1e-3)
 
 
 def _turn_factor(arc: Arc, a: ArcPoint, b: ArcPoint) -> float:

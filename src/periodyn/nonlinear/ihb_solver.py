@@ -37,6 +37,8 @@ from .ihb_fourier import complex_to_real, derivative_matrix, real_to_complex
 from .ihb_jacobian import JacobianPattern, block_needs
 from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
+from ..stability.methods import flow_choice
+from ..stability.orbit_flow import flow_exponents, stiffness
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -87,8 +89,12 @@ class IHBProblem:
         k = np.arange(1, self.H + 1)
         self._E = np.hstack([np.ones((self.p, 1)), np.cos(np.outer(self.theta, k)), np.sin(np.outer(self.theta, k))])
         self._ED, self._EDD = self._E @ self.D, self._E @ self.D @ self.D  # samples of d/dtau, d2/dtau2
+        self._E3 = np.vstack([self._E, self._ED, self._EDD])  # all three in one product (time_samples)
         self._Pr = self._E.T * np.concatenate([[1.0], np.full(2 * self.H, 2.0)])[:, None] / self.p  # Galerkin
         self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
+        M0 = system.mass(np.tile(np.asarray(system.q0, float), (self.p, 1)))
+        self._mass = M0 if M0.strides[0] == 0 else None  # a constant mass: its (p, n, n) view, kept
+        self._last = None  # samples and df/dq' of the latest Jacobian evaluation (omega_derivative)
         self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
 
     # ------------------------------------------------------------------ layout
@@ -124,18 +130,18 @@ class IHBProblem:
             raise InputError(f"solution has subharmonic {sol.subharmonic}, problem {self.nu}")
         Hs = (sol.harmonics.shape[0] - 1) // 2
         pad = max(0, self.H - Hs)
-        cq = np.pad(sol.harmonics, ((pad, pad), (0, 0)))
         lam = sol.lambda_harmonics if sol.lambda_harmonics is not None else np.zeros((2 * Hs + 1, self.m))
-        cl = np.pad(lam, ((pad, pad), (0, 0)))
+        cq, cl = (np.pad(c, ((pad, pad), (0, 0))) if pad else c for c in (sol.harmonics, lam))
         return self.join(complex_to_real(cq, self.H), complex_to_real(cl, self.H))
 
     # ------------------------------------------------------------------ AFT
     def time_samples(self, X: np.ndarray, omega: float):
         """Samples over one orbit: t (p,), q, q', q'' (p, n), lambda (p, m)."""
-        Om = omega / self.nu
+        Om, p = omega / self.nu, self.p
         Aq, Al = self.split(X)
-        lam = self._E @ Al if self.m else np.zeros((self.p, 0))
-        return self.theta / Om, self._E @ Aq, Om * (self._ED @ Aq), Om ** 2 * (self._EDD @ Aq), lam
+        lam = self._E @ Al if self.m else np.zeros((p, 0))
+        S = self._E3 @ Aq
+        return self.theta / Om, S[:p], Om * S[p:2 * p], Om ** 2 * S[2 * p:], lam
 
     def residual(self, X: np.ndarray, omega: float, params=None) -> np.ndarray:
         """R(X), shape (size,)."""
@@ -144,6 +150,34 @@ class IHBProblem:
     def residual_jacobian(self, X: np.ndarray, omega: float, params=None):
         """(R (size,), J sparse csc (size, size))."""
         return self._evaluate(X, omega, params, jacobian=True)
+
+    def omega_derivative(self, X: np.ndarray, omega: float, h: float, params=None) -> np.ndarray:
+        """dR/domega at X (size,) for the continuation's bordered rows: the central difference
+        (R(X, omega + h) - R(X, omega - h)) / 2h with the samples of X taken once (q', q''
+        scale with omega) and one projection; right after the Jacobian at the same point of an
+        unconstrained system, the chain rule through q', q'' with its df/dq' and the difference
+        of the force's explicit dependence on t and omega alone."""
+        P = self.system.parameters if params is None else params
+        p, nu, last = self.p, self.nu, self._at_last(X, omega, P)
+        if not self.m and last is not None:
+            # the Jacobian's samples at this point: q fixed, q' and q'' scale with omega (d/domega: q'/omega,
+            # 2 q''/omega), the force's explicit dependence on t = tau nu / omega and omega by the difference
+            q, qd, qdd, M, Cf = last[4:8] + last[9:]
+            f1, f2 = (self.system.force(q, qd, self.theta / (w / nu), w, P) for w in (omega + h, omega - h))
+            Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]
+            d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f2) / (2 * h)
+            return self.join(self._Pr @ d1, np.zeros((self.L, 0)))
+        Aq, Al = self.split(X)
+        S = self._E3 @ Aq
+        lam = self._E @ Al if self.m else np.zeros((p, 0))
+        (a1, a2), (b1, b2) = (self._sampled(self.theta / (w / nu), S[:p], (w / nu) * S[p:2 * p],
+                                            (w / nu) ** 2 * S[2 * p:], lam, w, P)[:2] for w in (omega + h, omega - h))
+        return self.join(self._Pr @ ((a1 - b1) / (2 * h)), self._Pr @ ((a2 - b2) / (2 * h)))
+
+    def _at_last(self, X, omega, P):
+        """The latest Jacobian evaluation's samples if it was at (X, omega, P), else None."""
+        last = self._last
+        return last if last is not None and last[1] == omega and last[2] == P and np.array_equal(last[0], X) else None
 
     def sampled_residual(self, X: np.ndarray, omega: float, params=None):
         """The DAE residual at the p sample times, before projection: (t (p,), r1 =
@@ -156,7 +190,7 @@ class IHBProblem:
     def _sampled(self, t, q, qd, qdd, lam, omega, P):
         """(r1, r2, f, M, Phi_q) at the samples (r2, Phi_q empty without constraints)."""
         sysm = self.system
-        M = sysm.mass(q)
+        M = self._mass if self._mass is not None and len(q) == self.p else sysm.mass(q)
         Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]  # constant M: one product
         f = sysm.force(q, qd, t, omega, P)
         r1 = Ma - f
@@ -175,6 +209,7 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
+        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_samples there
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)
@@ -215,8 +250,39 @@ class IHBProblem:
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
+    def state_samples(self, X, omega, params=None) -> np.ndarray:
+        """State matrices A (p, 2n, 2n) (1/s) of the perturbation y' = A y, y = (dq, dq'), of
+        the unconstrained orbit X at its sample times: dq'' = M^-1 (df/dq - d(M q'')/dq) dq
+        + M^-1 df/dq' dq'."""
+        P = self.system.parameters if params is None else params
+        sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
+        if last is not None:  # the corrector's last Jacobian was at this orbit
+            t, q, qd, qdd, M, Kf, Cf = last[3:]
+        else:
+            t, q, qd, qdd, _ = self.time_samples(X, omega)
+            M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
+        if sysm.mass_jacobian is not None:
+            Kf = Kf - sysm.mass_jacobian(q, qdd)
+        A = np.zeros((self.p, 2 * n, 2 * n))
+        A[:, range(n), range(n, 2 * n)] = 1.0
+        if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
+            A[:, n:, :n], A[:, n:, n:] = Kf, Cf
+        else:
+            A[:, n:] = np.linalg.solve(M, np.concatenate([Kf, Cf], axis=2))
+        return A
+
     def exponents(self, X, omega, params=None, method="magnus"):
-        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu)."""
+        """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).
+        method "auto" on an unconstrained orbit not too stiff by the registry's rule
+        (:func:`periodyn.stability.methods.flow_choice`) takes the certified Magnus flow of
+        its samples (:mod:`periodyn.stability.orbit_flow`), and the linearized orbit's
+        "auto" where that does not certify."""
+        if method == "auto" and not self.m:
+            A = self.state_samples(X, omega, params)
+            use, why = flow_choice(stiffness(A, omega, self.nu))
+            exps = flow_exponents(A, omega, self.nu, why) if use else None
+            if exps is not None:
+                return exps
         exps = orbit_exponents(self.linearization(X, omega, params), method)
         return replace(exps, omega=float(omega), subharmonic=self.nu)
 

@@ -10,7 +10,6 @@ residual, the iteration count and what to try; it is never returned.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import Callable
 
@@ -45,10 +44,22 @@ def lu_factor(J) -> Callable:
         return ordering.factor(J)
     if sp.issparse(J):
         return spla.splu(sp.csc_matrix(J)).solve
-    with warnings.catch_warnings():  # an exactly zero pivot is an error here, not a warning
-        warnings.simplefilter("error", sla.LinAlgWarning)
-        lu = sla.lu_factor(J, check_finite=False)
-    return lambda b: sla.lu_solve(lu, b)
+    # LAPACK getrf/getrs directly (scipy's checking wrappers cost more than a small orbit's solve)
+    J = np.asarray(J)
+    getrf, getrs = _LAPACK_LU if J.dtype == np.float64 else sla.get_lapack_funcs(("getrf", "getrs"), (J,))
+    lu, piv, info = getrf(J)
+    if info > 0:  # an exactly zero pivot is an error here, not a warning
+        raise sla.LinAlgWarning(f"Diagonal number {info} is exactly zero. Singular matrix.")
+
+    def solve(b):
+        x, err = getrs(lu, piv, b)
+        if err:
+            raise ValueError(f"LAPACK getrs: illegal argument {-err}")
+        return x
+    return solve
+
+
+_LAPACK_LU = sla.get_lapack_funcs(("getrf", "getrs"), (np.empty((1, 1)),))
 
 
 def least_squares_factor(J) -> Callable:

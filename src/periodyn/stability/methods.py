@@ -5,7 +5,8 @@ Vocabulary (:func:`names`): "dense" and "sparse" (Hill's method, :mod:`.hill`), 
 (whichever of the two is estimated cheaper, :func:`choose_method`), "magnus" (fixed-step
 4th-order Magnus monodromy, :mod:`.magnus`), "monodromy" (DOP853 reference, :mod:`.monodromy`)
 and "auto": the certified Magnus ladder where its error estimate settles the verdict within
-HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`);
+HILL_TIME_FACTOR times the estimated cost of "hill", else "hill" (:func:`auto_exponents`; a
+small unconstrained orbit: the Magnus flow of its samples, :func:`flow_choice`);
 "reduced": the ladder on a mean-system modal reduction with a certified Schur correction
 (:mod:`.reduced`; what it does not certify goes to "auto"), which a sweep's "auto" takes first
 on element models where it is estimated cheaper (:func:`.reduced.reduced_costs`).
@@ -17,7 +18,7 @@ look their method up here. A new method is one module plus one :func:`register` 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Callable
 
@@ -35,8 +36,8 @@ from .reduced import ReducedStability, reduced_choices, reduced_costs, reduced_f
 
 __all__ = ["StabilityMethod", "register", "method_named", "check_method", "names", "characteristic_exponents",
            "operator_exponents", "hill_exponents", "spectra_operator", "auto_exponents", "choose_method",
-           "method_costs", "hill_cost", "hill_costs_many", "magnus_reason", "stability_choice", "HILL_TIME_FACTOR",
-           "DeferredOperator"]
+           "method_costs", "flow_choice", "hill_cost", "hill_costs_many", "magnus_reason", "stability_choice",
+           "HILL_TIME_FACTOR", "DeferredOperator"]
 
 
 @dataclass(frozen=True)
@@ -133,6 +134,7 @@ HILL_TIME_FACTOR = 4.0
 # 6.6-10.7x measured over 0-1 omega_b); DOP853 over one period at the sweep's highest speed
 _CLIMB_FACTOR = 8.0
 _MONODROMY_SECONDS = 1e-3
+_ORBIT_SETUP = 1.0e-3  # s of the linearized-orbit path before its first Magnus rung (1-DOF, H = 7)
 
 
 @lru_cache(maxsize=256)
@@ -148,6 +150,14 @@ def _costs(N: int, u: int, n: int) -> tuple[float, float, str]:
 def method_costs(pattern: BlockPattern) -> tuple[float, float]:
     """Estimated seconds of dense Hill and of one sparse (ARPACK) shift on ``pattern``."""
     return _costs(pattern.size, pattern.half_bandwidth, pattern.n)[:2]
+
+
+def flow_choice(rho: float) -> tuple[bool, str]:
+    """Whether "auto" takes the Magnus flow of an unconstrained orbit's samples (:mod:`.orbit_flow`), and why: when
+    its generator over a period, rho = max ||A|| T, is within the ladder's first rung (FIRST_RHO x START[6]), both
+    climb the same rungs and the flow saves the linearized orbit's set-up (~_ORBIT_SETUP s); stiffer goes there."""
+    limit = MagnusLadder.FIRST_RHO * MagnusLadder.START[6]
+    return rho <= limit, f"Magnus flow of the orbit's samples (generator {rho:.3g} <= {limit:g} per period)"
 
 
 def choose_method(op: HillOperator) -> tuple[str, str]:
@@ -199,8 +209,7 @@ def magnus_reason(est, i: int, hill: str, hill_seconds: float, first_cost: float
     if est.steps[i] == 0:
         return f"{hill} Hill: estimated {hill_seconds:.2g} s <= Magnus {first_cost:.2g} s"
     return (f"{hill} Hill: the Magnus estimate did not certify the verdict within {HILL_TIME_FACTOR:g} x "
-            f"{hill_seconds:.2g} s "
-            f"({est.steps[i]} steps: error {est.error[i]:.1g}, margin {est.margin[i]:.2g})")
+            f"{hill_seconds:.2g} s ({est.steps[i]} steps: error {est.error[i]:.1g}, margin {est.margin[i]:.2g})")
 
 
 @dataclass(frozen=True)
@@ -232,17 +241,17 @@ def auto_exponents(system: RheoLinear, op, steps: int | None = None) -> FloquetE
         floor = min(_costs((2 * op.m + 1) * op.n, op.n, op.n)[:2])
         est = ladder.solve(w, np.array([floor * HILL_TIME_FACTOR]))
         if est.accepted[0]:
-            nan = np.full(2 * system.n, np.nan)
-            return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus",
-                                    reason=magnus_reason(est, 0, "least", floor, float(est.first_cost[0])))
+            return _magnus_result(system, est, magnus_reason(est, 0, "least", floor, float(est.first_cost[0])))
         op = op()
     hill, seconds, _ = hill_cost(op)
     est = ladder.solve(w, np.array([seconds * HILL_TIME_FACTOR]))
     reason = magnus_reason(est, 0, hill, seconds, float(est.first_cost[0]))
-    if est.accepted[0]:
-        nan = np.full(2 * system.n, np.nan)
-        return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus", reason=reason)
-    return hill_solve(op, hill, reason)
+    return _magnus_result(system, est, reason) if est.accepted[0] else hill_solve(op, hill, reason)
+
+
+def _magnus_result(system: RheoLinear, est, reason: str) -> FloquetExponents:
+    nan = np.full(2 * system.n, np.nan)
+    return FloquetExponents(float(system.omega), est.exponents[0], nan, nan.copy(), "magnus", reason=reason)
 
 
 def _hill_choices(stage, w: np.ndarray):
@@ -285,8 +294,7 @@ def _reduced_exponents(system: RheoLinear, op: HillOperator, steps=None) -> Floq
     exps, done, reasons, _ = ReducedStability(system_model(system)).solve(w, op.m)
     if not done[0]:
         fl = auto_exponents(system, op)
-        return FloquetExponents(fl.omega, fl.exponents, fl.centroid, fl.edge, fl.method,
-                                reason=f"{reasons[0]}; {fl.reason}")
+        return replace(fl, reason=f"{reasons[0]}; {fl.reason}")
     nan = np.full(2 * system.n, np.nan)
     return FloquetExponents(float(system.omega), exps[0], nan, nan.copy(), "reduced", reason=reasons[0])
 

@@ -1,0 +1,116 @@
+"""Certified Magnus monodromy of a small orbit straight from its samples.
+
+An orbit's perturbation ``y' = A(tau) y`` (y = (dq, dq'), tau = Om t over one orbit
+period T = 2 pi / Om) is known at the p equidistant angles where harmonic balance
+samples it. Its trigonometric interpolant (harmonics up to (p - 1) // 2, the ones the
+samples resolve) is taken at the Gauss angles of N equal steps through a fixed (3N, p)
+matrix, and the 6th-order Magnus kernel
+(:func:`periodyn.kernels.solvers.floquet.magnus6_product`) gives the monodromy matrix.
+Step doubling N = START, 2 START, ... certifies it as the stability method "auto" does
+(:class:`periodyn.stability.magnus.MagnusLadder`, whose error test this is: the change
+of log max|mu| and of the sorted moduli between N / 2 and N steps, at least ERROR_FLOOR,
+at most STABILITY_TOL max(1, |log max|mu||), and the verdict not within it), from the
+ladder's first rung. No reduced system, no spectra, no ladder set-up, no balancing: the
+registry's rule (:func:`periodyn.stability.methods.flow_choice`) sends stiff orbits to the
+ladder. For a one-degree-of-freedom orbit the analysis is a few 2 x 2 products per step.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..kernels.solvers.floquet import magnus6_product
+from .floquet import STABILITY_TOL, FloquetExponents
+from .magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
+
+__all__ = ["flow_exponents", "half_period", "stiffness", "interpolation_matrix", "START", "LARGEST"]
+
+START, LARGEST = MagnusLadder.START[6], 1024  # steps of the first compared rung (against START / 2), most steps
+
+
+@lru_cache(maxsize=32)
+def interpolation_matrix(p: int, steps: int) -> np.ndarray:
+    """(3 steps, p): values at the order-6 Gauss angles of ``steps`` steps over 2 pi of the
+    trigonometric interpolant (harmonics 0..(p-1)//2) of p samples at 2 pi j / p."""
+    theta = gauss_angles(steps, points=3)
+    diff = theta[:, None] - 2 * np.pi * np.arange(p)[None, :] / p
+    k = np.arange(1, (p - 1) // 2 + 1)
+    return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
+
+
+def _monodromy(A: np.ndarray, varying: np.ndarray, steps: int, period: float) -> np.ndarray:
+    """Monodromy matrix over ``period`` (s) with ``steps`` order-6 Magnus steps from samples
+    A (p, d, d); only the entries ``varying`` (flat indices) differ between samples (the
+    interpolant of the others is their constant value)."""
+    p, d = A.shape[:2]
+    flat = A.reshape(p, -1)
+    At = np.repeat(flat[:1], 3 * steps, axis=0)
+    At[:, varying] = interpolation_matrix(p, steps) @ flat[:, varying]
+    phi = np.empty((d, d))
+    magnus6_product(At.reshape(-1, d, d), period / steps, phi)
+    return phi
+
+
+def half_period(A: np.ndarray) -> bool:
+    """Whether samples A (p, d, d) over one period repeat after half of it (p even, to
+    1e-12 of their largest entry): then the monodromy is Phi(T/2)^2."""
+    p = A.shape[0]
+    return p % 2 == 0 and bool(np.max(np.abs(A[p // 2:] - A[:p // 2])) <= 1e-12 * np.max(np.abs(A)))
+
+
+def stiffness(A: np.ndarray, omega: float, subharmonic: int = 1) -> float:
+    """max_j ||A_j||_1 T: the size of the generator over one orbit period (Magnus needs
+    steps in proportion to it; the ladder of "auto" balances stiff systems first)."""
+    return float(np.abs(A).sum(axis=1).max()) * 2 * np.pi * subharmonic / float(omega)
+
+
+def _eigvals(phi: np.ndarray) -> np.ndarray:
+    """Eigenvalues of a real square matrix; 2 x 2 in closed form (the larger root first,
+    the other from the determinant: no cancellation)."""
+    if phi.shape[0] != 2:
+        return sla.eigvals(phi, overwrite_a=True, check_finite=False)
+    half, det = 0.5 * (phi[0, 0] + phi[1, 1]), phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
+    root = np.sqrt(complex(half * half - det))
+    big = half + root if half >= 0 else half - root
+    return np.array([big, det / big if big != 0 else 0.0], dtype=complex)
+
+
+def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1, reason: str = "") -> FloquetExponents | None:
+    """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s) at
+    t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
+    rad/s), certified by step doubling (module docstring); None when LARGEST steps do not
+    certify them (or the monodromy is not finite). Samples that repeat after half a period
+    (:func:`half_period`) are integrated over that half only. reason: why this method (kept,
+    followed by the steps and the error estimate, on the result)."""
+    period = 2 * np.pi * subharmonic / float(omega)
+    half = half_period(A)
+    span = A[:A.shape[0] // 2] if half else A
+    flat = span.reshape(span.shape[0], -1)
+    varying = np.nonzero((flat != flat[0]).any(axis=0))[0]
+    G0 = mod0 = None
+    steps = START // 2
+    while steps <= LARGEST:
+        phi = _monodromy(span, varying, steps, period / 2 if half else period)
+        if not math.isfinite(phi.sum()):
+            return None
+        mu = _eigvals(phi) ** 2 if half else _eigvals(phi)  # eig(Phi(T/2)^2) = eig(Phi(T/2))^2
+        mod = np.sort(np.abs(mu))
+        if not mod[-1] > 0:
+            return None
+        G = math.log(mod[-1])
+        if G0 is not None:
+            err = max(abs(G - G0), float(np.abs(mod - mod0).max()) / mod[-1], ERROR_FLOOR)
+            if err <= STABILITY_TOL * max(1.0, abs(G)) and abs(G - STABILITY_TOL) > err:
+                lam = np.log(mu.astype(complex)) / period  # principal values
+                nan = np.full(lam.size, np.nan)
+                how = (f"Magnus of order 6 on the orbit's samples with {steps} steps"
+                       f"{' per half period' if half else ''}: estimated error {err:.1g} (tolerance {STABILITY_TOL:g})")
+                return FloquetExponents(float(omega), lam[np.lexsort((lam.imag, lam.real))], nan, nan.copy(), "magnus",
+                                        int(subharmonic), reason=f"{reason}; {how}" if reason else how)
+        G0, mod0 = G, mod
+        steps *= 2
+    return None

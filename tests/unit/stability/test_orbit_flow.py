@@ -1,0 +1,104 @@
+"""The certified Magnus flow of sampled orbits (periodyn.stability.orbit_flow) against the
+monodromy matrix by adaptive integration (scipy DOP853), and its use by IHB's "auto"."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import periodyn
+from periodyn.nonlinear.ihb_solver import IHBProblem, ihb
+from periodyn.stability.methods import flow_choice
+from periodyn.stability.orbit_flow import flow_exponents, half_period, interpolation_matrix, stiffness
+
+
+def mathieu(a, b, c, k):
+    """A(t) of y'' + c y' + (a + b cos(k t)) y = 0 (first order, y = (x, x'))."""
+    return lambda t: np.array([[0.0, 1.0], [-(a + b * np.cos(k * t)), -c]])
+
+
+def reference_multipliers(A, period):
+    """Eigenvalues of the monodromy matrix by DOP853 (rtol 1e-12)."""
+    d = A(0.0).shape[0]
+    sol = solve_ivp(lambda t, y: (A(t) @ y.reshape(d, d)).ravel(), (0.0, period), np.eye(d).ravel(),
+                    method="DOP853", rtol=1e-12, atol=1e-14)
+    return np.linalg.eigvals(sol.y[:, -1].reshape(d, d))
+
+
+def samples(A, period, p):
+    return np.array([A(period * j / p) for j in range(p)])
+
+
+@pytest.mark.parametrize("a, b, k", [(1.0, 0.3, 1), (0.3, 0.2, 2), (1.0, 0.4, 2), (2.0, 0.5, 1)])
+def test_moduli_match_monodromy(a, b, k):
+    """Stable and unstable (inside the first tongue: a = 1 with k = 2) Mathieu cases."""
+    omega = 1.0
+    A = mathieu(a, b, 0.04, k)
+    period = 2 * np.pi / omega
+    fl = flow_exponents(samples(A, period, 32), omega)
+    ref = np.sort(np.abs(reference_multipliers(A, period)))
+    assert fl is not None and fl.method == "magnus"
+    assert np.allclose(np.sort(np.abs(fl.multipliers)), ref, rtol=1e-7, atol=0)
+    assert np.log(ref[-1]) == pytest.approx(np.log(fl.max_multiplier), abs=1e-7)
+    assert fl.stable == (np.log(ref[-1]) <= 1e-6)
+
+
+def test_unstable_case_is_flagged():
+    A = mathieu(1.0, 0.4, 0.04, 2)
+    fl = flow_exponents(samples(A, 2 * np.pi, 32), 1.0)
+    assert not fl.stable and fl.max_multiplier > 1.05
+
+
+def test_half_period_detected_and_same_result():
+    """cos(2t) repeats after half a period, cos(t) does not; the half-period route (Phi(T/2)^2)
+    agrees with the reference."""
+    S2, S1 = samples(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi, 32), samples(mathieu(0.6, 0.3, 0.02, 1), 2 * np.pi, 32)
+    assert half_period(S2) and not half_period(S1)
+    assert "half period" in flow_exponents(S2, 1.0).reason
+    ref = np.sort(np.abs(reference_multipliers(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi)))
+    assert np.allclose(np.sort(np.abs(flow_exponents(S2, 1.0).multipliers)), ref, rtol=1e-7)
+
+
+def test_interpolation_is_exact_for_resolved_harmonics():
+    p, steps = 16, 8
+    x = np.cos(3 * 2 * np.pi * np.arange(p) / p) + 0.5 * np.sin(7 * 2 * np.pi * np.arange(p) / p)
+    theta = (np.arange(steps)[:, None] + np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])).ravel()
+    theta *= 2 * np.pi / steps
+    assert np.allclose(interpolation_matrix(p, steps) @ x, np.cos(3 * theta) + 0.5 * np.sin(7 * theta), atol=1e-13)
+
+
+def test_stiff_orbit_goes_to_the_ladder():
+    A = samples(mathieu(1e6, 0.3, 0.04, 1), 2 * np.pi, 16)
+    assert not flow_choice(stiffness(A, 1.0))[0]
+    assert flow_choice(stiffness(samples(mathieu(1.0, 0.3, 0.04, 1), 2 * np.pi, 16), 1.0))[0]
+
+
+def duffing():
+    def force(q, qd, t, w):
+        return -0.05 * qd - q - 0.1 * q ** 3 + 0.18 * np.cos(w * t)[:, None]
+
+    def jac(q, qd, t, w):
+        return (-1.0 - 0.3 * q ** 2)[:, :, None], np.full((len(t), 1, 1), -0.05)
+
+    return periodyn.DAE(np.eye(1), force, force_jacobian=jac, vectorized=True)
+
+
+@pytest.mark.parametrize("omega", [0.8, 1.2, 1.5])
+def test_ihb_auto_takes_the_flow_and_matches_the_linearized_monodromy(omega):
+    """Duffing orbits (H = 7): "auto" is the flow of the samples; its multiplier moduli agree
+    with DOP853 on the linearized orbit."""
+    s = duffing()
+    prob = IHBProblem(s, 7)
+    X = prob.newton(prob.from_solution(ihb(s, omega, 7, stability=None)), omega).x
+    fl, ref = prob.exponents(X, omega, None, "auto"), prob.exponents(X, omega, None, "monodromy")
+    assert "Magnus flow of the orbit's samples" in fl.reason
+    assert np.allclose(np.sort(np.abs(fl.multipliers)), np.sort(np.abs(ref.multipliers)), rtol=1e-8)
+    assert fl.omega == omega and fl.stable == ref.stable
+
+
+@pytest.mark.parametrize("phi", [[[0.9, 0.3], [-0.4, 0.8]], [[2.0, 1.0], [1.0, 3.0]], [[1e8, 1.0], [0.0, 1e-8]],
+                                 [[0.0, 0.0], [0.0, 0.0]], [[-1.0, 0.5], [0.0, -1.0]]])
+def test_two_by_two_eigenvalues_match_lapack(phi):
+    from periodyn.stability.orbit_flow import _eigvals
+    phi = np.array(phi)
+    got, ref = np.sort_complex(_eigvals(phi)), np.sort_complex(np.linalg.eigvals(phi))
+    assert np.allclose(got, ref, rtol=1e-12, atol=1e-300)
