@@ -29,7 +29,7 @@ from tests.twins.planar import kernel_sample, motion_twin  # noqa: E402  (the Nu
 import periodyn  # noqa: E402
 from periodyn.speeds import SpeedSolver  # noqa: E402
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model  # noqa: E402
-from periodyn.kernels.mechanism.assembly import linearize_samples  # noqa: E402
+from periodyn.kernels.mechanism.assembly import reduced_sample  # noqa: E402
 from periodyn.model.kinematics import nominal_configurations  # noqa: E402
 from periodyn.model.linearization import omega_split, rheo_linear  # noqa: E402
 from periodyn.engine.front import sweep  # noqa: E402
@@ -62,10 +62,13 @@ def main(argv=None) -> None:
     qddot = np.zeros(5)
     x = X[args.samples // 3]
     p, n, nd = args.samples, model.n_coordinates, model.n_dynamic
-    outs = (np.empty((1, p, nd, nd)), np.empty((1, p, nd, nd)), np.empty((1, p, nd, nd)), np.empty((1, p, nd)),
-            np.empty((1, p, n, nd)), np.empty((1, p, n, nd)), np.empty((1, p, n, nd)))
-    rates = (np.repeat(qdot[None, None], p, axis=1), np.repeat(qddot[None, None], p, axis=1), np.zeros((p, n)))
-    fill = lambda: linearize_samples(model.arrays, X, *rates, *outs)  # noqa: E731
+    outs = (np.empty((p, nd, nd)), np.empty((p, nd, nd)), np.empty((p, nd, nd)), np.empty((p, nd)),
+            np.empty((p, n, nd)), np.empty((p, n, nd)), np.empty((p, n, nd)))
+    load = np.zeros(n)
+
+    def fill():  # every sample of a period, one kernel call each (as model.linearization does)
+        for j in range(p):
+            reduced_sample(model.arrays, X[j], qdot, qddot, load, *(o[j] for o in outs))
     fill()  # compile
     t_jit = best_time(fill, number=20) / p
     t_call = best_time(lambda: kernel_sample(model, x, qdot, qddot), number=200)

@@ -74,7 +74,9 @@ def _run(model, X: np.ndarray, speeds) -> tuple[np.ndarray, ...]:
     qddots = speeds[:, None, None]**2 * qddot1[None]
     out = (np.empty((S, p, nd, nd)), np.empty((S, p, nd, nd)), np.empty((S, p, nd, nd)), np.empty((S, p, nd)),
            np.empty((S, p, n, nd)), np.empty((S, p, n, nd)), np.empty((S, p, n, nd)))
-    assembly.linearize_samples(arr, X, qdots, qddots, loads, *out)
+    for j in range(p):  # Python loops: a jitted one would have Numba compile reduced_sample's body again
+        for k in range(S):
+            assembly.reduced_sample(arr, X[j], qdots[k, j], qddots[k, j], loads[j], *(o[k, j] for o in out))
     return out
 
 
@@ -147,7 +149,7 @@ def rheo_linear(model, omega: float, samples: int) -> RheoLinear:
 
 
 def _split(model, X: np.ndarray, theta: np.ndarray, speed: float) -> tuple[np.ndarray, ...]:
-    """:func:`kernels.split.split_samples` at the configurations X (p, n_x) at angles theta (p,): M (p,nd,nd),
+    """:func:`kernels.split.split_sample` at each of the configurations X (p, n_x) at angles theta (p,): M (p,nd,nd),
     C [w^0, w^1], K [w^0, w^1, w^2] (each (p,nd,nd)), f^d [w^0, w^1, w^2] (each (p,nd)),
     and F_q^d, F_{q^d q} q', F_{q^d q q} q' q' at unit speed (p, n_x, nd)."""
     X = np.ascontiguousarray(X)
@@ -156,7 +158,10 @@ def _split(model, X: np.ndarray, theta: np.ndarray, speed: float) -> tuple[np.nd
     qdot1, qddot1, loads = _unit_rates(model, theta)
     M, C, K, fd = np.empty((p, nd, nd)), np.empty((p, 2, nd, nd)), np.empty((p, 3, nd, nd)), np.empty((p, 3, nd))
     F = tuple(np.empty((p, n, nd)) for _ in range(3))
-    split.split_samples(model.arrays, X, qdot1, qddot1, loads, float(speed), M, C, K, fd, *F)
+    Fd, Fdv, Fda = F
+    for j in range(p):  # a Python loop: a jitted one would have Numba compile split_sample's body again
+        split.split_sample(model.arrays, X[j], qdot1[j], qddot1[j], loads[j], float(speed), M[j], C[j], K[j], fd[j],
+                           Fd[j], Fdv[j], Fda[j])
     return (M, list(np.moveaxis(C, 1, 0)), list(np.moveaxis(K, 1, 0)), list(np.moveaxis(fd, 1, 0))) + F
 
 

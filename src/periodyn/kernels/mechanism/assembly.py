@@ -17,7 +17,7 @@ from ..elements import planar_beam, planar_truss, rigid_body, spatial_beam, spat
 from .lu import lu_solve_transposed
 from .transfer import input_jacobian, rates, track
 
-__all__ = ["element_arrays", "allocate_element_arrays", "nodal_arrays", "nodal_product", "add_adjoint_curvature", "reduced_sample", "linearize_samples",
+__all__ = ["element_arrays", "allocate_element_arrays", "nodal_arrays", "nodal_product", "add_adjoint_curvature", "reduced_sample",
            "ModelArrays", "allocate_tensors", "element_tensors", "input_jacobian", "track"]
 
 @njit(cache=True)
@@ -163,15 +163,3 @@ def reduced_sample(arr, x, qdot, qddot, load, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
     Cb[:] = Fd.T @ CFd + 2.0 * (MFd.T @ Fdv)
     Kb[:] = Fd.T @ (KFd + CFdv) + MFd.T @ Fda
     fd[:] = Fd.T @ r
-
-
-@njit(cache=True)
-def linearize_samples(arr, X, qdots, qddots, loads, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """For every sample j and every rate set s: reduced_sample at X[j] with
-    qdots[s, j], qddots[s, j] (S, p, n_q) and loads[j] (p, n_x). Outputs Mb, Cb, Kb (S, p, n_d, n_d), fd (S, p, n_d),
-    Fd, Fdv, Fda (S, p, n_x, n_d)."""
-    p = X.shape[0]
-    for j in range(p):
-        for s in range(qdots.shape[0]):
-            reduced_sample(arr, X[j], qdots[s, j], qddots[s, j], loads[j], Mb[s, j], Cb[s, j], Kb[s, j], fd[s, j],
-                           Fd[s, j], Fdv[s, j], Fda[s, j])

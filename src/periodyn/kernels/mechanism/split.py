@@ -23,7 +23,7 @@ from .lu import lu_solve_transposed, lu_solve_transposed_many
 from .transfer import rates
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _element_powers(arr, x, v1, a1, load, D, Dx, Dxx, LU, piv, speed, Me, Ce, Ke, r):
     """Element arrays with the constraint curvature at input speed s, split into powers of s
     from s = -speed, 0, +speed: Me (ne, w, w); Ce (2, ne, w, w); Ke (3, ne, w, w); r (3, n_x).
@@ -94,13 +94,3 @@ def split_sample(arr, x, qdot1, qddot1, load, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fd
     for k in range(3):
         Kb[k] = P[:, (3 + k) * nd:(4 + k) * nd]
     fd[:] = P[:, 6 * nd:].T
-
-
-@njit(cache=True)
-def split_samples(arr, X, qdot1, qddot1, loads, speed, Mb, Cb, Kb, fd, Fd, Fdv, Fda):
-    """:func:`split_sample` at every configuration X (p, n_x) with its unit-speed rates
-    qdot1[j], qddot1[j] (p, n_q) and loads[j] (p, n_x). Outputs Mb
-    (p, n_d, n_d), Cb (p, 2, n_d, n_d), Kb (p, 3, n_d, n_d), fd (p, 3, n_d), Fd, Fdv, Fda
-    (p, n_x, n_d)."""
-    for j in range(X.shape[0]):
-        split_sample(arr, X[j], qdot1[j], qddot1[j], loads[j], speed, Mb[j], Cb[j], Kb[j], fd[j], Fd[j], Fdv[j], Fda[j])

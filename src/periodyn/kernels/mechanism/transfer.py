@@ -84,7 +84,7 @@ def track(arr, x0, q0, q_targets, tol, max_iter, max_halvings, X, info):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rates(arr, x, qdot, qddot, v, a, Fd, Fdv, Fda):
     """The part of :func:`motion` that reduced_sample needs (no F_{q^d q^d}): overwrites
     v, a (n_x,), Fd, Fdv, Fda (n_x, n_d) by solves with the constraint Jacobian J,
