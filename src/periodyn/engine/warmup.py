@@ -126,7 +126,7 @@ def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float
 #: CPU seconds (one core, cold cache, numba 0.68) of the outermost compiles of each kernel
 #: module in a first run, callees included (``benchmarks/compile_profile.py`` on the
 #: slider-crank and pendulum sweep files)
-FAMILY_SECONDS = {"mechanism.split": 62.0, "mechanism.constraint_system": 60.0, "mechanism.assembly": 59.0,
+FAMILY_SECONDS = {"mechanism.split": 32.0, "mechanism.constraint_system": 60.0, "mechanism.assembly": 50.0,
                   "solvers.magnus_ladder": 42.0, "mechanism.transfer": 33.0, "solvers.floquet": 7.0,
                   "solvers.banded": 5.0}
 
