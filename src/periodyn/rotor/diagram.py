@@ -43,7 +43,10 @@ SINGULAR_PIVOT = 1e3 * float(np.finfo(float).eps)
 
 
 def _speeds(speeds) -> np.ndarray:
-    s = np.atleast_1d(np.asarray(speeds, dtype=float))
+    try:
+        s = np.atleast_1d(np.asarray(speeds, dtype=float))
+    except (TypeError, ValueError):
+        s = np.array([np.nan])
     if s.ndim != 1 or s.size == 0 or not np.all(np.isfinite(s)) or np.any(s < 0):
         raise InputError(f"speeds must be a non-empty 1-D array of finite spin speeds >= 0 in rad/s, got {speeds!r}")
     return s
