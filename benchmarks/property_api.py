@@ -207,7 +207,7 @@ def campbell_check(v: dict, workdir: Path):
     for at in (0.0, 1.0):
         r.add_bearing(Bearing(at, 1e6, 1e6, cyy=100.0, czz=100.0))
     kw = {k: v[k] for k in ("speeds", "modes", "frame", "eigensolver")}
-    bad = {"speeds": ["fast", [-1.0], [float("nan")], [], [[1.0, 2.0]], None], "modes": [0, 100, "2", 2.5, -1, None],
+    bad = {"speeds": ["fast", [-1.0], [float("nan")], [], [[1.0, 2.0]], None], "modes": [0, 100, "2", 2.5, -1, True],
            "frame": ["inertial", 3, None, "x", "", "ROTATING"], "eigensolver": ["fast", 3, None, "x", "", "Dense"]}
     if v["broken"]:
         kw[v["broken"]] = bad[v["broken"]][v["pick"]]

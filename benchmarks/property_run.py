@@ -50,7 +50,7 @@ KINDS = {**property_inputs.KINDS, **property_api.KINDS}
 
 OUTCOMES = ("ran correctly", "refused cleanly", "silent wrong", "traceback")
 #: share of the examples per kind
-SHARES = {"sweep files": 0.25, "element files": 0.15, "rotor files": 0.2, "DAE builders": 0.2, "API arguments": 0.2}
+SHARES = {"rotor files": 0.2, "API arguments": 0.2, "DAE builders": 0.2, "element files": 0.15, "sweep files": 0.25}
 
 
 def classify(check, case, workdir: Path) -> tuple[str, str, int]:
@@ -75,6 +75,22 @@ def classify(check, case, workdir: Path) -> tuple[str, str, int]:
     if flagged is None:
         return "refused cleanly", err.getvalue().strip()[-160:], 0
     return "ran correctly", "", flagged
+
+
+def print_table(kinds, table, flagged, file=None) -> Counter:
+    """The summary table (inputs by kind and outcome); returns the totals."""
+    file = file or sys.stdout
+    total = Counter()
+    width = max(map(len, kinds)) + 2
+    print(f"\n{'inputs':<{width}}{'total':>7}" + "".join(f"{o:>17}" for o in OUTCOMES) + f"{'flagged points':>16}",
+          file=file)
+    for kind in kinds:
+        total.update(table[kind])
+        print(f"{kind:<{width}}{sum(table[kind].values()):>7}" + "".join(f"{table[kind][o]:>17}" for o in OUTCOMES)
+              + f"{flagged[kind]:>16}", file=file)
+    print(f"{'all':<{width}}{sum(total.values()):>7}" + "".join(f"{total[o]:>17}" for o in OUTCOMES)
+          + f"{sum(flagged.values()):>16}", file=file, flush=True)
+    return total
 
 
 def main(argv=None) -> int:
@@ -106,18 +122,13 @@ def main(argv=None) -> int:
                 flagged[kind] += points
                 if args.show_refused and outcome == "refused cleanly":
                     print(f"refused {case!r}\n  {detail}", file=sys.stderr)
+                if outcome in ("silent wrong", "traceback"):
+                    print(f"{outcome}: {case!r}\n  {detail}", file=sys.stderr, flush=True)
                 if outcome in ("silent wrong", "traceback") and len(failures[kind]) < 5:
                     failures[kind].append((case, detail))
             print(f"{kind}: {count} inputs in {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
-    total = Counter()
-    width = max(map(len, kinds)) + 2
-    print(f"\n{'inputs':<{width}}{'total':>7}" + "".join(f"{o:>17}" for o in OUTCOMES) + f"{'flagged points':>16}")
-    for kind in kinds:
-        total.update(table[kind])
-        print(f"{kind:<{width}}{sum(table[kind].values()):>7}" + "".join(f"{table[kind][o]:>17}" for o in OUTCOMES)
-              + f"{flagged[kind]:>16}")
-    print(f"{'all':<{width}}{sum(total.values()):>7}" + "".join(f"{total[o]:>17}" for o in OUTCOMES)
-          + f"{sum(flagged.values()):>16}")
+            print_table([k for k in kinds if k in table], table, flagged, sys.stderr)
+    total = print_table(kinds, table, flagged)
     print(f"\n{sum(total.values())} inputs in {time.perf_counter() - start:.0f} s (seed {args.seed})")
     for kind, items in failures.items():
         for case, detail in items:

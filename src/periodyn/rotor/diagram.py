@@ -216,8 +216,8 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
     if eigensolver not in ("auto", "dense", "subset"):
         raise InputError(f"eigensolver must be 'auto', 'dense' or 'subset', got {eigensolver!r}")
     n = model.n
-    modes = n if modes is None else int(modes)
-    if not 1 <= modes <= n:
+    modes = n if modes is None else modes
+    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
     if "stationary" not in model.frames:       # coordinates that turn with the shaft
         frame = "rotating" if frame == "auto" else frame
