@@ -21,7 +21,7 @@ Duffing, the non-linear pendulum) and API arguments (``RheoLinear.from_samples``
 - traceback: any other exception (or a command that prints one).
 
 Run: PYTHONPATH=src python benchmarks/property_run.py [--examples 2000] [--seed 0]
-(about 10-20 minutes in one process). Prints the summary table and the first few
+(338-969 s in one process on 2 shared cores). Prints the summary table and the first few
 failures of each kind with the input that caused them.
 """
 
