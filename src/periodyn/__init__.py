@@ -25,6 +25,7 @@ _PUBLIC = {
     "DAE": "dae", "rheo_linear_dae": "dae", "element_dae": "nonlinear.elements",
     # methods
     "periodic_solution": "harmonic.balance", "AliasingWarning": "harmonic.operator",
+    "BalanceTruncationWarning": "harmonic.truncation",
     "characteristic_exponents": "stability.methods", "hill_exponents": "stability.methods",
     "TruncationWarning": "stability.floquet",
     "transient": "averaging", "integrate_stiff": "numerics.stiff",

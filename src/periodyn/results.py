@@ -20,6 +20,7 @@ variable                dims                                meaning
 ``reduced_correction``  (*P, omega)                         its largest Schur correction |d_lambda|, 1/s
 ``stability_error_bound`` (*P, omega)                       its bound on max_real_exponent * period
 ``balance_modes``       (*P, omega)                         modes kept by the reduced HB (0: full HB)
+``balance_truncation``  (*P, omega)                         harmonics the HB left out, relative (warned above 1e-2)
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
@@ -279,10 +280,14 @@ _LAYOUT = (
     ("balance_modes", (), np.int32(0),
      {"long_name": "mean-system modes kept by the reduced harmonic balance at the point (its residual is that of "
                    "the full HB equations; 0 where the full HB was solved)", "units": "1"}),
+    ("balance_truncation", (), np.nan,
+     {"long_name": "estimated largest harmonic left out by the harmonic balance relative to the largest kept "
+                   "(periodyn.harmonic.truncation; above 1e-2 the amplitudes may be wrong: increase harmonics)",
+      "units": "1"}),
 )
 #: per-speed columns of the reduced paths (``choose``'s records of a stability method, and the
-#: reduced HB's mode count), with their fill values
-STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-4:]}
+#: reduced HB's mode count) and the HB truncation indicator, with their fill values
+STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-5:]}
 
 
 def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:

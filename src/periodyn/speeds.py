@@ -21,6 +21,8 @@ from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import amplification, balance_failure, periodic_solution
 from .harmonic.reduced_balance import ReducedBalance
+from .harmonic.truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, balance_truncation,
+                                  balance_truncation_message)
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
 from .periodic import PeriodicSolution, half_range_and_mean, output_spectrum
@@ -92,7 +94,8 @@ class SpeedBatch:
     stability method used at each speed ("" without stability); reduced_modes,
     reduced_correction (1/s), stability_error_bound: (S,) what the method "reduced" records
     (:data:`periodyn.results.STABILITY_RECORDS`, their fill values where it did not certify);
-    balance_modes: (S,) modes kept by the reduced HB (0 where the full HB solved the speed)."""
+    balance_modes: (S,) modes kept by the reduced HB (0 where the full HB solved the speed);
+    balance_truncation: (S,) the HB truncation indicator (:mod:`periodyn.harmonic.truncation`)."""
 
     omega: np.ndarray
     output_names: tuple[str, ...]
@@ -110,6 +113,7 @@ class SpeedBatch:
     reduced_correction: np.ndarray
     stability_error_bound: np.ndarray
     balance_modes: np.ndarray
+    balance_truncation: np.ndarray
 
     def __len__(self) -> int:
         return self.omega.shape[0]
@@ -296,6 +300,7 @@ class SpeedSolver:
             methods = message
             records = {name: np.full(S, fill) for name, fill in STABILITY_RECORDS.items()}
         records["balance_modes"] = balance_modes
+        records["balance_truncation"] = self._truncation(q, w)
         failed = balance_message != ""  # no periodic solution: the point fails with the HB's reason
         recorded = (np.where(failed, fill, records[name]) for name, fill in STABILITY_RECORDS.items())
         message = np.where(failed, balance_message, message)
@@ -304,6 +309,19 @@ class SpeedSolver:
                              max_real))
         return SpeedBatch(w, self.model.output_names, *columns, stable & ~failed, message.astype(str),
                           methods.astype(str), *recorded)
+
+
+    def _truncation(self, q: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """HB truncation indicators (S,) of the harmonics q (S, 2m+1, n) at speeds w (S,);
+        warns (BalanceTruncationWarning) where one is above BALANCE_TRUNCATION_TOL."""
+        Ms, Cs, Ks, fs, _ = self.model._power_spectra
+        at = lambda A: np.moveaxis(A @ (w[:, None] ** np.arange(A.shape[-1])).T, -1, 0)  # noqa: E731
+        indicator = balance_truncation(Ms, at(Cs), at(Ks), at(fs), q, w)
+        high = np.flatnonzero(indicator > BALANCE_TRUNCATION_TOL)
+        if high.size:
+            warnings.warn(f"{high.size} of {w.size} speeds: " + balance_truncation_message(
+                indicator[high[0]], self.m, w[high[0]]), BalanceTruncationWarning, stacklevel=4)
+        return indicator
 
 
 def check_speeds(omegas) -> np.ndarray:

@@ -198,17 +198,7 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     """
     opts = replace(options or ContinuationOptions(), **_known(option_values))
     system = as_dae(system, "continuation")
-    if parameter is None:
-        try:
-            p0, p1 = (float(v) for v in omega)
-        except TypeError:
-            raise InputError("omega must be (start, stop) in rad/s, or give parameter=(name, start, stop)") from None
-        name = None
-    else:
-        if len(parameter) != 3 or parameter[0] not in system.parameters:
-            raise InputError(f"parameter must be (name, start, stop) with name in {sorted(system.parameters)}")
-        name, p0, p1 = parameter[0], float(parameter[1]), float(parameter[2])
-    _check_range(name, p0, p1)
+    name, p0, p1 = _range(system, omega, parameter)
 
     def at(p):
         """(omega, parameters) of parameter value p."""
@@ -265,8 +255,17 @@ def trace_branch(system, omega, harmonics: int = 5, method: str = "ihb", paramet
     return branch
 
 
-def _check_range(name: str | None, p0: float, p1: float) -> None:
-    """Refuse a continuation range that is empty, not finite or, for omega, not positive."""
+def _range(system, omega, parameter) -> tuple[str | None, float, float]:
+    """(name or None, start, stop); refuses a range not two numbers, empty, infinite or (omega) not > 0."""
+    given = omega if parameter is None else parameter
+    try:  # a string is no range ("12" would be (1, 2))
+        if isinstance(given, (str, bytes)) or (parameter is not None and parameter[0] not in system.parameters):
+            raise TypeError
+        name, p0, p1 = (None, *map(float, omega)) if parameter is None else (parameter[0], *map(float, parameter[1:]))
+    except (TypeError, ValueError, IndexError):
+        raise InputError(("omega must be (start, stop) in rad/s, or give parameter=(name, start, stop)" if parameter
+                          is None else f"parameter must be (name, start, stop) with name in {sorted(system.parameters)}")
+                         + f"; got {given!r}") from None
     what = "omega=(start, stop) in rad/s" if name is None else f"parameter=({name!r}, start, stop)"
     if not (np.isfinite(p0) and np.isfinite(p1)):
         raise InputError(f"{what} must be finite, got ({p0}, {p1}); give both ends as numbers")
@@ -274,6 +273,7 @@ def _check_range(name: str | None, p0: float, p1: float) -> None:
         raise InputError(f"{what} must be positive driving speeds, got ({p0}, {p1}); give 0 < start, stop")
     if p0 == p1:
         raise InputError(f"{what} is empty: start and stop are both {p0}; give two different values")
+    return name, p0, p1
 
 
 def _known(values: dict) -> dict:

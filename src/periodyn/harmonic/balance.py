@@ -14,6 +14,7 @@ estimates cheapest.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -23,6 +24,8 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ConvergenceError, InputError
 from .operator import FORMS, AliasingWarning, HarmonicOperator, HillOperator, check_harmonics
+from .truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, balance_truncation,
+                         balance_truncation_message)
 from .pattern import BlockPattern, from_real_basis, real_form, to_real_basis
 from ..periodic import PeriodicSolution, output_spectrum
 from ..system import RheoLinear
@@ -146,6 +149,8 @@ def periodic_solution(system: RheoLinear, harmonics: int, *, form: str = "direct
     form="inverse-mass" balances the paper's P = M^-1 C, Q = M^-1 K, r = M^-1 f (eq. 16).
     operator: the :class:`HillOperator` of this system, form and m at system.omega, when
     already built (e.g. ``HarmonicOperator.for_system(system, m, form).at(system.omega)``).
+    Warns (BalanceTruncationWarning) where the harmonics left out are not small
+    (:mod:`periodyn.harmonic.truncation`).
     """
     m = check_harmonics(harmonics)
     row_scale = None
@@ -153,5 +158,10 @@ def periodic_solution(system: RheoLinear, harmonics: int, *, form: str = "direct
         harmonic = HarmonicOperator.for_system(system, m, form)
         operator, row_scale = harmonic.at(system.omega), harmonic.balance_scales_many([system.omega])[0][0]
     q, residual = solve_balance(operator, row_scale=row_scale)
+    S = system.spectra
+    truncation = balance_truncation(S.mass, S.damping[None], S.stiffness[None], S.force[None], q[None],
+                                    [system.omega])[0]
+    if truncation > BALANCE_TRUNCATION_TOL:
+        warnings.warn(balance_truncation_message(truncation, m, system.omega), BalanceTruncationWarning, stacklevel=2)
     return PeriodicSolution(system.omega, q, output_spectrum(system.spectra.outputs, q), system.coordinate_names,
                             system.output_names, residual, form)

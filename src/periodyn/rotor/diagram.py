@@ -43,7 +43,10 @@ SINGULAR_PIVOT = 1e3 * float(np.finfo(float).eps)
 
 
 def _speeds(speeds) -> np.ndarray:
-    s = np.atleast_1d(np.asarray(speeds, dtype=float))
+    try:
+        s = np.atleast_1d(np.asarray(speeds, dtype=float))
+    except (TypeError, ValueError):
+        s = np.array([np.nan])
     if s.ndim != 1 or s.size == 0 or not np.all(np.isfinite(s)) or np.any(s < 0):
         raise InputError(f"speeds must be a non-empty 1-D array of finite spin speeds >= 0 in rad/s, got {speeds!r}")
     return s
@@ -213,8 +216,8 @@ def campbell(model: RotorModel | ElementRotor, speeds, *, modes: int | None = No
     if eigensolver not in ("auto", "dense", "subset"):
         raise InputError(f"eigensolver must be 'auto', 'dense' or 'subset', got {eigensolver!r}")
     n = model.n
-    modes = n if modes is None else int(modes)
-    if not 1 <= modes <= n:
+    modes = n if modes is None else modes
+    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or not 1 <= modes <= n:
         raise InputError(f"modes must be between 1 and {n} (the rotor's coordinates), got {modes}")
     if "stationary" not in model.frames:       # coordinates that turn with the shaft
         frame = "rotating" if frame == "auto" else frame

@@ -26,7 +26,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import InputError
-from .diagram import FORWARD, BACKWARD, campbell
+from .diagram import FORWARD, BACKWARD, _speeds, campbell
 from .model import RotorModel
 
 __all__ = ["Unbalance", "unbalance_load", "unbalance_response", "synchronous_response", "static_deflection",
@@ -70,13 +70,6 @@ def _rotor(model) -> RotorModel:
                          f"or periodyn.examples.rotor()), got {type(model).__name__}; an element rotor's coordinates "
                          "turn with the shaft")
     return model
-
-
-def _speeds(speeds) -> np.ndarray:
-    s = np.atleast_1d(np.asarray(speeds, dtype=float))
-    if s.ndim != 1 or s.size == 0 or not np.all(np.isfinite(s)) or np.any(s < 0):
-        raise InputError(f"speeds must be a non-empty 1-D array of finite spin speeds >= 0 in rad/s, got {speeds!r}")
-    return s
 
 
 def _unbalances(model: RotorModel, unbalance) -> tuple[Unbalance, ...]:

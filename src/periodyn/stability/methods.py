@@ -118,6 +118,8 @@ def stability_choice(stability, method: str | None = None, where: str = "sweep")
             raise InputError(f"stability={stability!r} and method={method!r} disagree; pass only stability=")
     if isinstance(stability, str):
         return True, check_method(stability)
+    if not isinstance(stability, (bool, np.bool_)):
+        raise InputError(f"stability must be True, False or a stability method's name {names()}, got {stability!r}")
     return bool(stability), check_method("auto" if method is None else method)
 
 

@@ -53,6 +53,7 @@ __all__ = ["SweepSpec", "SweepPlan", "parse_sweep_table", "run_sweep", "MAX_HARM
 
 #: Harmonics a sweep file may ask for: the Hill matrix has (2m+1)·2n rows per speed.
 MAX_HARMONICS = 1000
+MAX_SAMPLES = 4 * MAX_HARMONICS + 1  # the stability methods sample the coefficients at about as many angles
 _KEYS = ("omega", "harmonics", "samples", "stability", "method", "boundaries", "grid", "output_units", "quasistatic")
 
 
@@ -177,6 +178,9 @@ def parse_sweep_table(check: Checker, table, *, source, name, text, description,
         check.fail("[sweep] harmonics", f"{harmonics} harmonics is more than a sweep can hold (at most "
                                         f"{MAX_HARMONICS}); 10-40 resolve the papers' examples")
     samples = check.integer(sweep["samples"], "[sweep] samples", 1) if "samples" in sweep else None
+    if samples is not None and samples > MAX_SAMPLES:
+        check.fail("[sweep] samples", f"{samples} samples per period is more than a sweep needs (at most {MAX_SAMPLES}, "
+                                      f"4 x the harmonics limit + 1); use samples = {4 * harmonics + 1}")
     if samples is not None and samples < 2 * harmonics + 1:
         check.fail("[sweep] samples", f"{samples} samples cannot resolve {harmonics} harmonics; "
                                       f"use samples >= {2 * harmonics + 1} (>= {4 * harmonics + 1} recommended)")
