@@ -21,6 +21,7 @@ variable                dims                                meaning
 ``stability_error_bound`` (*P, omega)                       its bound on max_real_exponent * period
 ``balance_modes``       (*P, omega)                         modes kept by the reduced HB (0: full HB)
 ``balance_truncation``  (*P, omega)                         harmonics the HB left out, relative (warned above 1e-2)
+``hill_truncation``     (*P, omega)                         Hill's edge energy (NaN without Hill; fails above 1e-6)
 ======================  ==================================  =========================================
 
 Coordinates: ``omega`` (rad/s), one per grid parameter, ``harmonic`` (l), ``output`` (names),
@@ -284,10 +285,14 @@ _LAYOUT = (
      {"long_name": "estimated largest harmonic left out by the harmonic balance relative to the largest kept "
                    "(periodyn.harmonic.truncation; above 1e-2 the amplitudes may be wrong: increase harmonics)",
       "units": "1"}),
+    ("hill_truncation", (), np.nan,
+     {"long_name": "Hill's truncation indicator: the largest energy fraction of an exponent's eigenvector in the "
+                   "outermost harmonics (NaN where no Hill method judged the point; above 1e-6 the point fails)",
+      "units": "1"}),
 )
 #: per-speed columns of the reduced paths (``choose``'s records of a stability method, and the
-#: reduced HB's mode count) and the HB truncation indicator, with their fill values
-STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-5:]}
+#: reduced HB's mode count) and the HB and Hill truncation indicators, with their fill values
+STABILITY_RECORDS = {name: fill for name, _, fill, _ in _LAYOUT[-6:]}
 
 
 def _sizes(harmonics: int, n_outputs: int, n_exponents: int) -> dict[str, int]:

@@ -95,7 +95,8 @@ class SpeedBatch:
     reduced_correction (1/s), stability_error_bound: (S,) what the method "reduced" records
     (:data:`periodyn.results.STABILITY_RECORDS`, their fill values where it did not certify);
     balance_modes: (S,) modes kept by the reduced HB (0 where the full HB solved the speed);
-    balance_truncation: (S,) the HB truncation indicator (:mod:`periodyn.harmonic.truncation`)."""
+    balance_truncation: (S,) the HB truncation indicator (:mod:`periodyn.harmonic.truncation`);
+    hill_truncation: (S,) Hill's truncation indicator (NaN where no Hill method judged the speed)."""
 
     omega: np.ndarray
     output_names: tuple[str, ...]
@@ -114,6 +115,7 @@ class SpeedBatch:
     stability_error_bound: np.ndarray
     balance_modes: np.ndarray
     balance_truncation: np.ndarray
+    hill_truncation: np.ndarray
 
     def __len__(self) -> int:
         return self.omega.shape[0]

@@ -113,6 +113,7 @@ class SpeedStability:
         if truncated.size:
             warnings.warn(f"{truncated.size} of {w.size} speeds failed: {message[truncated[0]]}", TruncationWarning,
                           stacklevel=3)
+        records["hill_truncation"] = edge
         return exps, message, names, records
 
     def _group(self, entry: StabilityMethod, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -89,3 +89,15 @@ def test_solve_point_refuses_the_truncated_verdict_as_the_speed_solver_does(mode
     with pytest.raises(ConvergenceError, match="truncated"), pytest.warns(TruncationWarning):
         SpeedSolver(model, 2, stability="dense").solve(OMEGA)
     assert not solve_point(model.at(OMEGA), 8, stability="dense").stable
+
+
+def test_a_sweep_records_hill_truncation_per_point(model):
+    from periodyn.engine.front import sweep
+
+    speeds = np.array([OMEGA, 2 * OMEGA])
+    ds = sweep(model, speeds, 8, stability="dense", progress=False)
+    edge = ds["hill_truncation"].values
+    scalar = [characteristic_exponents(model.at(w), 8, method="dense").truncation for w in speeds]
+    assert np.all(edge <= TRUNCATION_TOL) and edge == pytest.approx(scalar, rel=1e-6, abs=1e-15)
+    no_hill = sweep(model, speeds, 8, stability="magnus", progress=False)
+    assert np.isnan(no_hill["hill_truncation"].values).all()
