@@ -23,7 +23,8 @@ entry named omega* of the model built from ``[model.parameters]`` (e.g. "omega0"
 With ``boundaries = true`` every sign change of ``max_real_exponent`` between neighbouring
 speeds is refined by :func:`periodyn.stability.boundaries.stability_boundaries` and stored
 in the result along the dimension ``boundary``: ``boundary_omega`` (rad/s),
-``boundary_kind`` (fold | period-doubling | neimark-sacker) and ``boundary_becomes_stable``.
+``boundary_kind`` (fold | period-doubling | neimark-sacker), ``boundary_becomes_stable`` and
+``boundary_message`` (why a refinement is not reliable: a truncated Hill verdict, a failure; '' if clean).
 
 With ``quasistatic = N`` the result holds ``quasistatic_amplitude`` (grid..., omega,
 quasistatic_harmonic, output): the amplitudes 2 |G_0 K_0^-1 f_k|, k = 1..N, of the
@@ -261,19 +262,36 @@ def run_sweep(spec: SweepSpec, out, *, omega=None, resume: bool = False, workers
 
 def _boundaries(spec: SweepSpec, ds: xr.Dataset) -> xr.Dataset:
     """Stability boundaries between neighbouring speeds of ``ds`` whose max Re(lambda)
-    changes sign, each refined by Brent's method (increasing omega)."""
-    from ..stability.boundaries import stability_boundaries
+    changes sign, each refined by Brent's method (increasing omega). A refinement that met
+    a truncated Hill verdict, or failed (its omega then NaN), keeps its reason in
+    ``boundary_message`` ('' where clean) and warns: never a traceback after the sweep."""
+    from ..errors import ConvergenceError
+    from ..stability.boundaries import StabilityBoundary, stability_boundaries
+    from ..stability.floquet import TruncationWarning
 
     model = spec.build()
     system_at = getattr(model, "at", model)
     order = np.argsort(ds["omega"].values, kind="stable")
     omega, growth = ds["omega"].values[order], ds["max_real_exponent"].values[order]
-    found = []
+    found, reasons = [], []
     for i in np.flatnonzero(np.sign(growth[:-1]) * np.sign(growth[1:]) < 0):
-        found += stability_boundaries(system_at, omega[i:i + 2], spec.harmonics, spec.method)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", TruncationWarning)
+            try:
+                pair = stability_boundaries(system_at, omega[i:i + 2], spec.harmonics, spec.method, truncation="warn")
+                reason = next((str(w.message) for w in caught if issubclass(w.category, TruncationWarning)), "")
+            except ConvergenceError as exc:
+                pair, reason = [StabilityBoundary(math.nan, "", bool(growth[i + 1] < 0))], f"refinement failed: {exc}"
+        found += pair
+        reasons += [reason] * len(pair)
+    flagged = [r for r in reasons if r]
+    if flagged:
+        warnings.warn(f"{len(flagged)} of {len(reasons)} stability boundaries are not reliable (boundary_message): "
+                      f"{flagged[0]}", TruncationWarning, stacklevel=2)
     return xr.Dataset({"boundary_omega": ("boundary", [b.omega for b in found], {"units": "rad/s"}),
                        "boundary_kind": ("boundary", np.array([b.kind for b in found], dtype=object)),
-                       "boundary_becomes_stable": ("boundary", [b.becomes_stable for b in found])})
+                       "boundary_becomes_stable": ("boundary", [b.becomes_stable for b in found]),
+                       "boundary_message": ("boundary", np.array(reasons, dtype=object))})
 
 
 def _quasistatic(spec: SweepSpec, ds: xr.Dataset) -> xr.Dataset:

@@ -175,3 +175,43 @@ def test_boundaries_are_results_of_the_sweep(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("stability = true", "stability = false"))
     assert main(["sweep", str(bad), "--out", str(tmp_path / "b.nc")]) == 2
+
+
+@pytest.mark.parametrize("fault", ["truncated", "failed"])
+def test_an_unreliable_boundary_refinement_is_flagged_not_raised(tmp_path, monkeypatch, fault):
+    """A Hill verdict truncated (or a solve failing) inside the refinement, after the whole
+    sweep is computed, gives a flagged boundary and a warning, not a traceback."""
+    import warnings
+
+    import periodyn.stability.boundaries as boundaries
+    from periodyn.errors import ConvergenceError
+    from periodyn.stability.floquet import TruncationWarning
+
+    grid = np.linspace(0.8, 1.1, 7)
+    exact = boundaries.characteristic_exponents
+
+    def faulty(system, *args, **kwargs):  # fault at the refinement's inner speeds only
+        inner = not np.isclose(system.omega / grid, 1.0, rtol=1e-9).any()
+        if inner and fault == "failed":
+            raise ConvergenceError("no convergence at an inner speed")
+        if inner:
+            warnings.warn("Hill's method is truncated at an inner speed", TruncationWarning)
+        return exact(system, *args, **kwargs)
+
+    text = (project_root() / "sweeps" / "pendulum.toml").read_text()
+    study = tmp_path / "p.toml"
+    study.write_text(text)
+    clean = tmp_path / "clean.nc"
+    assert main(["sweep", str(study), "--omega", "0.8:1.1:7", "--out", str(clean), "--workers", "1", "-q"]) == 0
+    assert (load(clean)["boundary_message"].values == "").all()
+    monkeypatch.setattr(boundaries, "characteristic_exponents", faulty)
+    out = tmp_path / "p.nc"
+    with pytest.warns(TruncationWarning, match="2 of 2 stability boundaries are not reliable"):
+        assert main(["sweep", str(study), "--omega", "0.8:1.1:7", "--out", str(out), "--workers", "1", "-q"]) == 0
+    ds = load(out)
+    assert ds.sizes["boundary"] == 2 and all(fault in str(m) or "truncated" in str(m)
+                                             for m in ds["boundary_message"].values)
+    if fault == "failed":
+        assert np.isnan(ds["boundary_omega"].values).all()
+    else:
+        assert ds["boundary_omega"].values == pytest.approx(load(clean)["boundary_omega"].values, rel=1e-12)
