@@ -1,7 +1,8 @@
 """A Dask cluster started with Dask's own commands (``dask scheduler``, ``dask worker``) as
 separate processes on localhost: ``periodyn sweep FILE --scheduler tcp://...`` survives a
 worker killed (SIGKILL) mid-sweep, its chunks being retried on the other worker, and
-writes a result file whose values are bit-identical to the serial sweep's."""
+writes a result file whose values are bit-identical to the serial sweep's; Ctrl-C on the
+client exits 130 keeping its chunks, and ``--resume`` finishes to the same values."""
 
 from __future__ import annotations
 
@@ -123,3 +124,40 @@ def test_chunks_are_split_for_a_cluster_with_more_threads_than_workers():
     assert len(split) == 4 + 3 + 1 and np.array_equal(np.concatenate(split), np.arange(14))
     assert _for_cluster(chunks, slots=2, workers=2, execution=ExecutionOptions()) is chunks
     assert _for_cluster(chunks, slots=8, workers=2, execution=ExecutionOptions(chunk_size=10)) is chunks
+
+
+def test_ctrl_c_on_a_cluster_sweep_exits_130_and_resumes_to_the_serial_result(cluster, tmp_path):
+    """SIGINT to the client (Ctrl-C in its terminal) mid-sweep: exit 130 with the resume hint and
+    no traceback, the finished chunks and the cluster kept, no lock left; ``--resume`` on the
+    same cluster then gives the serial sweep's values."""
+    from periodyn.engine.session import lock_path
+
+    address, workers = cluster
+    sweep_path = tmp_path / "cluster.toml"
+    sweep_path.write_text(SWEEP)
+    out = tmp_path / "cluster.nc"
+    parts = tmp_path / "cluster.nc.parts"
+    command = [sys.executable, "-m", "periodyn.cli", "sweep", str(sweep_path), "--out", str(out),
+               "--scheduler", address, "--chunk-size", str(CHUNK), "--quiet"]
+    run = subprocess.Popen(command, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        wait_for(lambda: len(list(parts.glob("chunk-*.npz"))) >= 3, "the first checkpointed chunks",
+                 processes=[run, *workers])
+        run.send_signal(signal.SIGINT)
+        _, stderr = run.communicate(timeout=120)
+    finally:
+        if run.poll() is None:
+            run.kill()
+            run.wait()
+    err = stderr.decode()
+    assert run.returncode == 130, err[-3000:]
+    assert "interrupted; finished chunks are kept, continue with --resume" in err and "Traceback" not in err
+    kept = len(list(parts.glob("chunk-*.npz")))
+    assert 0 < kept < SPEEDS // CHUNK and not out.exists() and not lock_path(out).exists()
+    assert all(w.poll() is None for w in workers)  # the cluster outlives its client
+    resumed = subprocess.run(command + ["--resume"], env=environment(), capture_output=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr.decode()[-3000:]
+    clustered = load(out)
+    assert clustered.attrs["points_computed"] < SPEEDS  # the kept chunks were not computed again
+    serial = sweep_file(load_sweep_file(sweep_path), progress=False)
+    xr.testing.assert_identical(without_attrs(clustered), without_attrs(serial))
