@@ -317,7 +317,10 @@ class SpeedSolver:
         """HB truncation indicators (S,) of the harmonics q (S, 2m+1, n) at speeds w (S,);
         warns (BalanceTruncationWarning) where one is above BALANCE_TRUNCATION_TOL."""
         Ms, Cs, Ks, fs, _ = self.model._power_spectra
-        at = lambda A: np.moveaxis(A @ (w[:, None] ** np.arange(A.shape[-1])).T, -1, 0)  # noqa: E731
+        def at(A):  # the omega-polynomial (..., P) at every speed, elementwise: no speed changes another's bits
+            powers = w.reshape(-1, *(1,) * (A.ndim - 1))
+            return sum(powers ** p * A[None, ..., p] for p in range(A.shape[-1]))
+
         indicator = balance_truncation(Ms, at(Cs), at(Ks), at(fs), q, w)
         high = np.flatnonzero(indicator > BALANCE_TRUNCATION_TOL)
         if high.size:

@@ -29,7 +29,7 @@ def cardan_boundaries(alpha: float = np.pi / 6, harmonics: int = 12, samples: in
     "warn" for Hill results above the truncation tolerance (the monodromy check still runs);
     stability: the stability method (``method=``, its deprecated spelling, warns)."""
     if method is not None:
-        stability = stability_choice(None if stability == "dense" else stability, method, "cardan_boundaries")[1]
+        stability = stability_choice(True if stability == "dense" else stability, method, "cardan_boundaries")[1]
     model = cardan_shaft(alpha, samples=samples)
     wb = model.metadata["omega_b"]
     found = stability_boundaries(model.at, np.asarray(grid, float) * wb, harmonics, stability=stability, xtol=xtol,

@@ -52,7 +52,7 @@ def stability_boundaries(system_at: Callable[[float], RheoLinear], omega: np.nda
     truncation tolerance (:func:`characteristic_exponents`).
     """
     if method is not None:
-        stability = stability_choice(None if stability == "auto" else stability, method, "stability_boundaries")[1]
+        stability = stability_choice(True if stability == "auto" else stability, method, "stability_boundaries")[1]
     method = check_method(stability)
     omega = np.asarray(omega, dtype=float)
     if omega.ndim != 1 or omega.size < 2 or np.any(np.diff(omega) <= 0):

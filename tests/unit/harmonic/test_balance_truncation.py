@@ -94,3 +94,20 @@ def test_constant_coefficients_leave_nothing_out():
         warnings.simplefilter("error", BalanceTruncationWarning)
         sol = periodyn.periodic_solution(system, 1)
     assert sol.amplitude()[0] == pytest.approx(1 / abs(4.0 - 1.3 ** 2 + 0.2j * 1.3), rel=1e-12)
+
+
+def test_each_speed_indicator_is_independent_of_the_speeds_beside_it():
+    """A sweep's chunks hold different speeds: for the same harmonics, every speed's indicator
+    must equal, to the bit, the one computed for that speed alone (the coefficient band, the
+    forced harmonics and the coefficients at omega are per speed), as serial and parallel
+    sweeps are bit-identical."""
+    from periodyn.speeds import SpeedSolver
+
+    speeds = np.linspace(150.0, 300.0, 7)
+    solver = SpeedSolver(periodyn.examples.slider_crank(samples=32), 3, stability=False)
+    q = solver._balance(speeds)[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BalanceTruncationWarning)
+        together = solver._truncation(q, speeds)
+        alone = np.concatenate([solver._truncation(q[i:i + 1], speeds[i:i + 1]) for i in range(speeds.size)])
+    assert np.isfinite(together).all() and np.array_equal(together, alone)
