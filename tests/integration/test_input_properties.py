@@ -86,7 +86,7 @@ def sweep_files(draw) -> str:
     values such as eccentricity = 1e300 count as valid: they must run)."""
     broken = draw(st.sampled_from([None] * 5 + list(FIELDS)))
     v = {name: draw(bad if name == broken else good) for name, (good, bad) in FIELDS.items()}
-    if broken != "samples" and v["samples"] is not None and v["samples"] < 2 * v["harmonics"] + 1:
+    if broken not in ("samples", "harmonics") and v["samples"] is not None and v["samples"] < 2 * v["harmonics"] + 1:
         v["samples"] = None
     lines = ["[model]", 'example = "pendulum"', "[model.parameters]"]
     lines += [f"{name} = {toml_value(v[name])}" for name in ("eccentricity", "zeta", "length")]

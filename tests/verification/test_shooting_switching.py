@@ -58,7 +58,11 @@ def test_shooting_pitchfork_and_asymmetric_branch_agree_with_ihb(upper, asymmetr
     # harmonic balance against direct integration
     assert abs(bp.omega - bp_ihb.omega) < 1e-6
     means = np.array([_mean_angle(s) for s in asymmetric.solutions])
-    assert abs(means[0] + np.pi / 2) < 1e-6 and np.all(np.abs(means[1:] + np.pi / 2) > 1e-3)
+    # the switched branch starts on the pitchfork (symmetric: mean -pi/2) and leaves it: its start is
+    # corrected where the Jacobian is singular, so the null-direction part is fixed only to about
+    # sqrt(tol) (measured 7.3e-7 with scipy 1.17, 2.4e-6 with 1.11), far below the branch's asymmetry
+    asymmetry = np.abs(means + np.pi / 2)
+    assert np.all(asymmetry[1:] > 1e-3) and asymmetry[0] < 1e-2 * asymmetry[1:].min()
     assert np.max(asymmetric.residual) <= 1e-9
     assert asymmetric.points("branch-point") == [] and asymmetric.points("fold") == []
     (pd,) = asymmetric.points("period-doubling")
