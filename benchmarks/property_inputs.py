@@ -91,9 +91,19 @@ def check_dataset(where: str, ds, params: dict | None, omega=None) -> int:
     return int((~solved).sum() + flagged.sum())
 
 
-def run_cli(path: Path, out: Path, extra=()) -> int:
+def ran(path: Path, out: Path, broken: str, extra=()) -> bool:
+    """``periodyn sweep path``: False where it refused the input cleanly (exit 2); any other
+    failure, or a broken input (``broken``: what is broken, '' for none) accepted, is Wrong."""
     from periodyn.cli import main
-    return main(["sweep", str(path), "--out", str(out), "--workers", "1", "-q", *extra])
+
+    code = main(["sweep", str(path), "--out", str(out), "--workers", "1", "-q", *extra])
+    if code == 2:
+        return False
+    if code != 0:
+        _wrong(f"exit code {code}")
+    if broken:
+        _wrong(f"broken {broken} accepted")
+    return True
 
 
 # ----------------------------------------------------------------------------- sweep files
@@ -145,13 +155,8 @@ def sweep_file_check(v: dict, workdir: Path):
 
     path, out = workdir / "s.toml", workdir / "s.nc"
     path.write_text(sweep_file_text(v))
-    code = run_cli(path, out)
-    if code == 2:
+    if not ran(path, out, f"{v['broken']} = {v[v['broken']]!r}" if v["broken"] else ""):
         return None
-    if code != 0:
-        _wrong(f"exit code {code}")
-    if v["broken"]:
-        _wrong(f"broken {v['broken']} = {v[v['broken']]!r} accepted")
     w0 = math.sqrt(G / v["length"])
     factor = w0 if v["unit"] == "omega0" else UNITS[v["unit"]]
     params = {k: v[k] for k in ("length", "radius", "eccentricity", "zeta")}
@@ -201,13 +206,8 @@ def element_check(v: dict, workdir: Path):
     path, out = workdir / "e.toml", workdir / "e.nc"
     path.write_text(text)
     a, b, n = v["omega"]
-    code = run_cli(path, out, ["--omega", f"{a!r}:{b!r}:{n}"])
-    if code == 2:
+    if not ran(path, out, f"element file ({v['broken']})" if v["broken"] else "", ["--omega", f"{a!r}:{b!r}:{n}"]):
         return None
-    if code != 0:
-        _wrong(f"exit code {code}")
-    if v["broken"]:
-        _wrong(f"broken element file ({v['broken']}) accepted")
     w0 = math.sqrt(G / length)
     params = {"length": length, "radius": r, "eccentricity": e, "zeta": v["damping"] / (2 * w0 * v["mass"] * length ** 2)}
     return check_dataset("element file", load(out), params, np.linspace(a, b, n))

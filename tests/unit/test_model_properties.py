@@ -174,14 +174,19 @@ def test_stability_that_is_no_bool_or_method_name_is_refused(stability):
         periodyn.sweep(pendulum(samples=24), [1.0], 3, stability=stability, progress=False)
 
 
-@pytest.mark.parametrize("speeds", ["fast", ["a", 1.0], {"x": 1}])
-def test_campbell_speeds_that_are_no_numbers_are_refused(speeds):
+def _two_bearing_rotor():
+    """A steel shaft of 1 m on two equal bearings, compiled."""
     r = Rotor("r")
     r.add_shaft(0.0, 1.0, outer_diameter=0.05, E=2e11, density=7800.0, elements=2)
     for at in (0.0, 1.0):
         r.add_bearing(Bearing(at, 1e6, 1e6))
+    return r.compile()
+
+
+@pytest.mark.parametrize("speeds", ["fast", ["a", 1.0], {"x": 1}])
+def test_campbell_speeds_that_are_no_numbers_are_refused(speeds):
     with pytest.raises(InputError, match="speeds must be a non-empty 1-D array of finite spin speeds"):
-        campbell(r.compile(), speeds)
+        campbell(_two_bearing_rotor(), speeds)
 
 
 def test_a_sweep_file_with_more_samples_than_a_sweep_needs_is_refused():
@@ -196,9 +201,5 @@ def test_a_sweep_file_with_more_samples_than_a_sweep_needs_is_refused():
 @pytest.mark.parametrize("modes", [2.5, "2", True])
 def test_campbell_modes_that_are_no_integer_are_refused(modes):
     """2.5 and "2" were cut to 2 modes silently."""
-    r = Rotor("r")
-    r.add_shaft(0.0, 1.0, outer_diameter=0.05, E=2e11, density=7800.0, elements=2)
-    for at in (0.0, 1.0):
-        r.add_bearing(Bearing(at, 1e6, 1e6))
     with pytest.raises(InputError, match="modes must be between 1 and"):
-        campbell(r.compile(), [0.0], modes=modes)
+        campbell(_two_bearing_rotor(), [0.0], modes=modes)

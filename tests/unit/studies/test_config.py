@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import copy
 import inspect
-import json
 import math
 import tomllib
 
@@ -18,23 +17,13 @@ from periodyn.studies.spec import load_sweep_file, parse_sweep, project_root
 from periodyn.errors import InputError
 from periodyn.examples import pendulum as pendulum_builder
 
+from .toml_edits import junk as junk_values, leaves, replaced, toml_value
+
 VALID = {
     "model": {"example": "pendulum", "parameters": {"zeta": 0.01, "eccentricity": 0.5}},
     "sweep": {"omega": {"start": 0.1, "stop": 1.4, "num": 20, "unit": "omega0"}, "harmonics": 4, "samples": 16,
               "stability": "auto"},
 }
-
-
-def toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float) and not math.isfinite(value):
-        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
-    if isinstance(value, (int, float, str)):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, list):
-        return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    return "{ " + ", ".join(f"{toml_value(k)} = {toml_value(v)}" for k, v in value.items()) + " }"
 
 
 def dump(data: dict, prefix: str = "") -> str:
@@ -153,11 +142,7 @@ LEAVES = [("model", "example"), ("model", "parameters", "zeta"), ("model", "para
 REQUIRED = [("model",), ("sweep",), ("model", "example"), ("sweep", "omega"), ("sweep", "harmonics"),
             ("sweep", "omega", "unit"), ("sweep", "omega", "start"), ("sweep", "omega", "num")]
 text = st.text(st.characters(exclude_categories=("Cs", "Cc")), max_size=8)  # writable as TOML strings
-junk = st.recursive(
-    st.one_of(st.integers(-10**6, 10**6), st.floats(allow_nan=True, allow_infinity=True), st.booleans(), text),
-    lambda inner: st.one_of(st.lists(inner, max_size=3), st.dictionaries(text, inner, max_size=3)),
-    max_leaves=6,
-)
+junk = junk_values(st.integers(-10**6, 10**6), text)
 VALID_KEYS = {  # keys each table accepts (the element-model keys switch [model] to the other form)
     (): {"description", "model", "sweep"},
     ("model",): {"example", "parameters", "name", "points", "angles", "elements", "masses", "inertias", "forces",
@@ -296,28 +281,14 @@ def test_mechanism_mistakes(edits, message):
         parse_sweep(text, "sc.toml", "sc").plan()
 
 
-def element_leaves(data, path=()):
-    """Paths of every value in the element-model [model] table."""
-    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else []
-    found = [path] if path else []
-    for k, v in items:
-        found += element_leaves(v, path + (k,))
-    return found
-
-
 ELEMENT_DATA = tomllib.loads(ELEMENTS_FILE.read_text())
-ELEMENT_PATHS = [("model",) + p for p in element_leaves(ELEMENT_DATA["model"])]
+ELEMENT_PATHS = [("model",) + p for p in leaves(ELEMENT_DATA["model"])]
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(ELEMENT_PATHS), junk)
 def test_any_wrong_value_in_an_element_model_gives_a_clean_error(path, value):
-    data = copy.deepcopy(ELEMENT_DATA)
-    target = data
-    for key in path[:-1]:
-        target = target[key]
-    target[path[-1]] = value
     try:
-        parse_sweep(dump(data), "test.toml", "test").plan()
+        parse_sweep(dump(replaced(ELEMENT_DATA, path, value)), "test.toml", "test").plan()
     except InputError as exc:
         assert str(exc).startswith("test.toml: ")

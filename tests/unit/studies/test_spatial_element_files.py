@@ -6,9 +6,6 @@ motion, spatial loads and outputs); every bad value is refused naming the file a
 
 from __future__ import annotations
 
-import copy
-import json
-import math
 import tomllib
 
 import numpy as np
@@ -20,11 +17,13 @@ import periodyn
 from periodyn.errors import InputError
 from periodyn.examples.cardan import cardan_shaft
 from periodyn.examples.rotor_table1 import TABLE_I_PRESENT, TABLE_I_SPEED_RPM, rotor
-from periodyn.model import BeamSection, Model
+from periodyn.model import Model
 from periodyn.model.driving import AngleFunction
 from periodyn.model.elements import IndependentElement
 from periodyn.model.linearization import omega_split
 from periodyn.studies.spec import load_sweep_file, parse_sweep, project_root
+
+from .toml_edits import junk as junk_values, leaves, replaced, toml_value
 
 SWEEPS = project_root() / "sweeps"
 CARDAN = SWEEPS / "cardan_shaft_elements.toml"
@@ -279,51 +278,24 @@ def test_bad_values_are_refused_naming_the_file_and_the_key(path, old, new, mess
         spec.plan() if spec.kind == "sweep" else spec.build()
 
 
-def toml_value(value) -> str:
-    """Inline TOML of a value (tables inline), for the fuzz test below."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value) if math.isfinite(value) else ("nan" if math.isnan(value) else
-                                                        ("inf" if value > 0 else "-inf"))
-    if isinstance(value, str):
-        return json.dumps(value)
-    if isinstance(value, list):
-        return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
-
-
-def leaves(data, path=()):
-    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else []
-    found = [path] if path else []
-    for k, v in items:
-        found += leaves(v, path + (k,))
-    return found
-
-
 ROTOR_DATA = tomllib.loads(TABLE_I.read_text())
 ROTOR_PATHS = [("model",) + p for p in leaves(ROTOR_DATA["model"])]
-text_values = st.text(alphabet="abcP0.yz_ ", max_size=8)
-junk = st.recursive(st.one_of(st.integers(-10, 10), st.floats(allow_nan=True, allow_infinity=True), st.booleans(),
-                              text_values),
-                    lambda inner: st.one_of(st.lists(inner, max_size=3), st.dictionaries(text_values, inner,
-                                                                                         max_size=3)),
-                    max_leaves=6)
+junk = junk_values(st.integers(-10, 10), st.text(alphabet="abcP0.yz_ ", max_size=8))
+
+
+def assert_clean(data: dict, path: tuple, value) -> None:
+    """The file with one value replaced builds or is refused by an InputError naming the file."""
+    text = "\n".join(f"{k} = {toml_value(v)}" for k, v in replaced(data, path, value).items())
+    try:
+        parse_sweep(text, "test.toml", "test").build()
+    except InputError as exc:
+        assert str(exc).startswith("test.toml: ")
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(ROTOR_PATHS), junk)
 def test_any_wrong_value_in_a_spatial_model_gives_a_clean_error(path, value):
-    data = copy.deepcopy(ROTOR_DATA)
-    target = data
-    for key in path[:-1]:
-        target = target[key]
-    target[path[-1]] = value
-    text = "\n".join(f"{k} = {toml_value(v)}" for k, v in data.items())
-    try:
-        parse_sweep(text, "test.toml", "test").build()
-    except InputError as exc:
-        assert str(exc).startswith("test.toml: ")
+    assert_clean(ROTOR_DATA, path, value)
 
 
 CARDAN_DATA = tomllib.loads(CARDAN.read_text())
@@ -334,13 +306,4 @@ CARDAN_PATHS = [("model",) + p for p in leaves(CARDAN_DATA["model"])]
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(CARDAN_PATHS), junk)
 def test_any_wrong_value_in_a_jointed_model_gives_a_clean_error(path, value):
-    data = copy.deepcopy(CARDAN_DATA)
-    target = data
-    for key in path[:-1]:
-        target = target[key]
-    target[path[-1]] = value
-    text = "\n".join(f"{k} = {toml_value(v)}" for k, v in data.items())
-    try:
-        parse_sweep(text, "test.toml", "test").build()
-    except InputError as exc:
-        assert str(exc).startswith("test.toml: ")
+    assert_clean(CARDAN_DATA, path, value)
