@@ -30,6 +30,10 @@ ROOT = Path(__file__).resolve().parents[2]
 SPEEDS = 2000
 CHUNK = 20
 SWEEP = pendulum_sweep_text(SPEEDS, "sweep on a local Dask cluster, one of whose workers is killed by the test")
+# Ctrl-C must land mid-sweep however fast the kernels run (a warm cache finishes 2,000 speeds
+# in about a second): ten times longer, about 2 s of serial reference
+CTRL_C_SPEEDS = 20000
+CTRL_C_SWEEP = pendulum_sweep_text(CTRL_C_SPEEDS, "sweep on a local Dask cluster interrupted by Ctrl-C")
 
 
 def free_port() -> int:
@@ -134,7 +138,7 @@ def test_ctrl_c_on_a_cluster_sweep_exits_130_and_resumes_to_the_serial_result(cl
 
     address, workers = cluster
     sweep_path = tmp_path / "cluster.toml"
-    sweep_path.write_text(SWEEP)
+    sweep_path.write_text(CTRL_C_SWEEP)
     out = tmp_path / "cluster.nc"
     parts = tmp_path / "cluster.nc.parts"
     command = [sys.executable, "-m", "periodyn.cli", "sweep", str(sweep_path), "--out", str(out),
@@ -153,11 +157,11 @@ def test_ctrl_c_on_a_cluster_sweep_exits_130_and_resumes_to_the_serial_result(cl
     assert run.returncode == 130, err[-3000:]
     assert "interrupted; finished chunks are kept, continue with --resume" in err and "Traceback" not in err
     kept = len(list(parts.glob("chunk-*.npz")))
-    assert 0 < kept < SPEEDS // CHUNK and not out.exists() and not lock_path(out).exists()
+    assert 0 < kept < CTRL_C_SPEEDS // CHUNK and not out.exists() and not lock_path(out).exists()
     assert all(w.poll() is None for w in workers)  # the cluster outlives its client
     resumed = subprocess.run(command + ["--resume"], env=environment(), capture_output=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr.decode()[-3000:]
     clustered = load(out)
-    assert clustered.attrs["points_computed"] < SPEEDS  # the kept chunks were not computed again
+    assert clustered.attrs["points_computed"] < CTRL_C_SPEEDS  # the kept chunks were not computed again
     serial = sweep_file(load_sweep_file(sweep_path), progress=False)
     xr.testing.assert_identical(without_attrs(clustered), without_attrs(serial))

@@ -9,10 +9,10 @@ plain-NumPy twin in the tests.
 
 Compile cost (a first run after an install compiles every kernel it calls; profile one with
 ``benchmarks/compile_profile.py``): Numba links each kernel's callees into its own module and
-has LLVM optimize the whole of it again, so a kernel costs about the size of everything it
-calls, once per signature. Hence loops are serial (no ``parallel=True``: a sweep runs one
-thread per worker process, and a prange kernel compiles its body again as a parallel
-region), a kernel is called with one signature (float64 C-contiguous arrays, int64
+has LLVM optimize the whole of it again (at -O1, :mod:`.optimization`), so a kernel costs
+about the size of everything it calls, once per signature. Hence loops are serial (no
+``parallel=True``: a sweep runs one thread per worker process, and a prange kernel
+compiles its body again as a parallel region), a kernel is called with one signature (float64 C-contiguous arrays, int64
 scalars), and no thin jitted wrapper is put around a large kernel.
 
 Adding an element family (``tests/unit/kernels/test_element_families.py`` checks steps 1-5):
@@ -29,3 +29,5 @@ Adding an element family (``tests/unit/kernels/test_element_families.py`` checks
    that calls ``<family>.deformation`` (and ``<family>.inertia``) against it (~1e-13) and
    against finite differences of every derivative order.
 """
+
+from . import optimization  # noqa: F401  (the kernels' level is set before any of them compiles)
