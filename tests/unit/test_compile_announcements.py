@@ -41,3 +41,27 @@ def test_silenced_announcements_say_nothing():
 
 def test_every_warmup_step_has_a_cost_estimate():
     assert all(seconds > 0 for _, seconds, _ in STEPS)
+
+
+def test_a_cold_cache_compiles_the_solver_ahead_in_a_background_process(monkeypatch):
+    """compile_ahead: one daemon process running the speed solver's warm-up step when the
+    cache is cold and two cores are there, once per process; nothing on a warm cache or
+    one core."""
+    from periodyn.engine import threads, warmup
+
+    started = []
+
+    class Context:
+        def Process(self, target, args, daemon, name):
+            started.append((target, args, daemon))
+            return type("P", (), {"start": lambda self: None})()
+
+    monkeypatch.setattr(warmup, "get_context", lambda kind: Context())
+    monkeypatch.setattr(warmup, "_AHEAD", None)
+    for cached, cores in ((True, 2), (False, 1), (False, 2), (False, 2)):
+        monkeypatch.setattr(warmup, "kernels_cached", lambda: cached)
+        monkeypatch.setattr(threads, "available_cores", lambda: cores)
+        warmup.compile_ahead()
+    assert len(started) == 1
+    target, (step,), daemon = started[0]
+    assert target is warmup._step and daemon and STEPS[step][0].startswith("speed solver")

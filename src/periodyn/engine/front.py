@@ -33,7 +33,7 @@ from .checkpoint import Checkpoint, Collected, fingerprint, model_identity, spli
 from .job import Job, ModelSource, reference_frequencies
 from .options import ExecutionOptions, OutputOptions, check_int
 from .threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores, auto_workers
-from .warmup import COMPILE_NOTE, announce_compiles, kernels_cached
+from .warmup import COMPILE_NOTE, announce_compiles, compile_ahead, kernels_cached
 from ..errors import InputError
 from ..stability.methods import method_named, stability_choice
 from .progress import Progress
@@ -223,6 +223,7 @@ def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=
     """Run a validated sweep file (:class:`periodyn.studies.sweep.SweepSpec`); ``omega``
     (start, stop, num) in the file's unit replaces its speeds; ``workers="auto"``:
     see :func:`auto_workers`."""
+    compile_ahead()  # a first run compiles the solver beside the model's kernels
     if workers == "auto":
         workers = auto_workers(spec.points(omega))
     if scheduler is None and workers != 1:

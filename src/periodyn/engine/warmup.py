@@ -21,7 +21,7 @@ from typing import Callable, TextIO
 
 from numba.core import event
 
-__all__ = ["kernels_cached", "warm_up", "announce_compiles", "STEPS", "COMPILE_NOTE"]
+__all__ = ["kernels_cached", "compile_ahead", "warm_up", "announce_compiles", "STEPS", "COMPILE_NOTE"]
 
 #: kernel modules the speed solver calls at every sweep point
 _SOLVER_KERNELS = ("solvers/banded", "solvers/floquet", "solvers/magnus_ladder", "mechanism/outputs")  # kernels/...
@@ -30,12 +30,19 @@ COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install,
 
 
 def kernels_cached() -> bool:
-    """True when the speed solver's kernels are in Numba's cache beside the sources (or
-    when a NUMBA_CACHE_DIR elsewhere makes that unknowable)."""
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return True
+    """True when the speed solver's kernels are in Numba's cache: beside the sources, or
+    in NUMBA_CACHE_DIR where that is set (in the folder Numba derives from the sources' path)."""
     kernels = Path(__file__).resolve().parents[1] / "kernels"
-    return all(any((kernels / path).parent.glob(f"__pycache__/{Path(path).name}.*.nbi")) for path in _SOLVER_KERNELS)
+
+    def folder(source: Path) -> Path:
+        cache_dir = os.environ.get("NUMBA_CACHE_DIR")
+        if not cache_dir:
+            return source.parent / "__pycache__"
+        from numba.core.caching import UserProvidedCacheLocator
+
+        return Path(cache_dir) / UserProvidedCacheLocator.get_suitable_cache_subpath(str(source))
+
+    return all(any(folder(kernels / f"{path}.py").glob(f"{Path(path).name}.*.nbi")) for path in _SOLVER_KERNELS)
 
 
 def _speed_solver() -> None:
@@ -95,6 +102,25 @@ def _step(i: int) -> float:
         warnings.simplefilter("ignore")
         STEPS[i][2]()
     return time.perf_counter() - began
+
+
+def compile_ahead() -> None:
+    """On a cold cache and two or more cores, compile the speed solver's kernels in a
+    background process while this one goes on building the model (which compiles the
+    model's own kernel families here): a first sweep then waits for the larger of the two
+    compiles, not their sum. The process ends with this one; a kernel it has not finished
+    is compiled here when first called (cache files are written whole, see above). At most
+    one such process per process."""
+    global _AHEAD
+    from .threads import available_cores
+
+    if _AHEAD is None and available_cores() >= 2 and not kernels_cached():
+        solver = next(i for i, (_, _, step) in enumerate(STEPS) if step is _speed_solver)
+        _AHEAD = get_context("spawn").Process(target=_step, args=(solver,), daemon=True, name="periodyn-compile-ahead")
+        _AHEAD.start()
+
+
+_AHEAD = None
 
 
 def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float:

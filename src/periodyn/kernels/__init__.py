@@ -12,8 +12,9 @@ Compile cost (a first run after an install compiles every kernel it calls; profi
 has LLVM optimize the whole of it again (at -O1, :mod:`.optimization`), so a kernel costs
 about the size of everything it calls, once per signature. Hence loops are serial (no
 ``parallel=True``: a sweep runs one thread per worker process, and a prange kernel
-compiles its body again as a parallel region), a kernel is called with one signature (float64 C-contiguous arrays, int64
-scalars), and no thin jitted wrapper is put around a large kernel.
+compiles its body again as a parallel region), a kernel is called with one signature
+(float64 C-contiguous arrays, int64 scalars), and no thin jitted wrapper is put around a
+large kernel.
 
 Adding an element family (``tests/unit/kernels/test_element_families.py`` checks steps 1-5):
 
