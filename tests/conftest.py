@@ -1,9 +1,23 @@
-"""Shared fixtures: small systems with known answers."""
+"""Shared fixtures: small systems with known answers.
 
-import numpy as np
-import pytest
+The suite runs one BLAS/OpenMP thread per process, as sweep workers do (and the
+subprocesses it starts inherit that): on the small matrices of these tests extra BLAS
+threads only wait for each other, and on a loaded 2-core machine the OpenBLAS of older
+wheels (numpy 1.26, scipy 1.11) made a Numba kernel calling LAPACK 40 times slower."""
 
-import periodyn
+import os
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import scipy.linalg  # noqa: E402,F401  (its BLAS loaded before the limit below)
+from threadpoolctl import threadpool_limits  # noqa: E402
+
+threadpool_limits(1)  # also where numpy or scipy was imported before this file
+
+import periodyn  # noqa: E402
 
 
 def mathieu(a: float, q: float, samples: int = 32, zeta: float = 0.0) -> periodyn.RheoLinear:
