@@ -20,6 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..numerics.threads import one_thread
 from ..errors import ConvergenceError
 from .branch import Branch
 from .confirm import confirm_special_points
@@ -36,6 +37,7 @@ class TruncationWarning(UserWarning):
     """A harmonic-balance branch whose orbits the harmonics do not resolve."""
 
 
+@one_thread()  # small matrices: one BLAS/Numba thread (numerics.threads)
 def continuation(system, omega, harmonics: int | None = None, method: str = "ihb", parameter: tuple | None = None,
                  **kwargs) -> Branch:
     """Response curve of a ``periodyn.DAE`` or an element model by pseudo-arc-length

@@ -33,7 +33,8 @@ from .cluster import run_dask
 from .job import Job
 from .options import ExecutionOptions
 from .stream import receipt
-from .threads import limit_threads, one_thread, worker_environment
+from ..numerics.threads import limit_threads, one_thread
+from .threads import worker_environment
 
 __all__ = ["BACKENDS", "run_serial", "run_processes", "start_server_early"]
 

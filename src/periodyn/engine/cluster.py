@@ -19,7 +19,8 @@ import numpy as np
 from ..errors import InputError
 from .job import Job
 from .options import ExecutionOptions
-from .threads import WORKER_THREAD_ENV, limit_threads
+from ..numerics.threads import limit_threads
+from .threads import WORKER_THREAD_ENV
 
 __all__ = ["run_dask"]
 

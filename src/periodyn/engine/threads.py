@@ -1,7 +1,8 @@
 """Threads and cores: one BLAS/OpenMP and one Numba thread per sweep process, on every
 path (serial in the caller's process, local worker processes, Dask workers), so every
 point is computed by the same single-threaded code whatever the backend and the results
-agree bit for bit. Light on purpose: imports only the standard library at module level."""
+agree bit for bit (the limits themselves: :mod:`periodyn.numerics.threads`). Light on
+purpose: imports only the standard library at module level."""
 
 from __future__ import annotations
 
@@ -10,8 +11,7 @@ import os
 import sys
 from typing import Iterator
 
-__all__ = ["WORKER_THREAD_ENV", "AUTO_PARALLEL_POINTS", "available_cores", "auto_workers", "limit_threads",
-           "one_thread", "worker_environment"]
+__all__ = ["WORKER_THREAD_ENV", "AUTO_PARALLEL_POINTS", "available_cores", "auto_workers", "worker_environment"]
 
 #: Environment of worker processes: one thread per library, set before numpy is imported.
 WORKER_THREAD_ENV = {
@@ -37,45 +37,6 @@ def auto_workers(points: int) -> int:
     """Worker processes for a sweep of ``points`` points: all cores from
     AUTO_PARALLEL_POINTS on, else 1."""
     return available_cores() if points >= AUTO_PARALLEL_POINTS else 1
-
-
-
-_CONTROLLER: list = []  # [(modules loaded when scanned, threadpoolctl controller)]
-
-
-def _controller():
-    """threadpoolctl's controller of the thread pools loaded in this process. Scanning
-    the loaded libraries costs milliseconds (more than a small sweep), so the controller
-    is kept until a module is imported (which may load another BLAS or OpenMP library)."""
-    from threadpoolctl import ThreadpoolController
-
-    loaded = len(sys.modules)
-    if not _CONTROLLER or _CONTROLLER[0][0] != loaded:
-        _CONTROLLER[:] = [(loaded, ThreadpoolController())]
-    return _CONTROLLER[0][1]
-
-
-def limit_threads() -> None:
-    """One BLAS/OpenMP and one Numba thread in this (worker) process from now on."""
-    import numba
-
-    _controller().limit(limits=1)
-    numba.set_num_threads(1)
-
-
-@contextlib.contextmanager
-def one_thread() -> Iterator[None]:
-    """One BLAS/OpenMP and one Numba thread inside the block, as in the workers, so the
-    serial sweep computes every point exactly as a worker process does."""
-    import numba
-
-    numba_threads = numba.get_num_threads()
-    with _controller().limit(limits=1):
-        numba.set_num_threads(1)
-        try:
-            yield
-        finally:
-            numba.set_num_threads(numba_threads)
 
 
 @contextlib.contextmanager

@@ -28,6 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..numerics.threads import one_thread
 from ..errors import ConvergenceError, InputError
 from .elements import as_dae
 from ..numerics.newton_iteration import newton
@@ -304,6 +305,7 @@ class IHBProblem:
                       hint="give a better initial guess (continuation) or more harmonics")
 
 
+@one_thread()  # small matrices: one BLAS/Numba thread (numerics.threads)
 def ihb(system, omega: float, harmonics: int = 5, *, initial=None, params=None, options: IHBOptions | None = None,
         **keywords) -> PeriodicSolution:
     """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as

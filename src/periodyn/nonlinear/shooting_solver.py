@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from ..numerics.threads import one_thread
 from ..errors import ConvergenceError, InputError
 from ..stability.floquet import FloquetExponents
 from ..periodic import PeriodicSolution
@@ -327,6 +328,7 @@ def cyclic_indices(system, cyclic) -> list[int]:
     return out
 
 
+@one_thread()  # small matrices: one BLAS/Numba thread (numerics.threads)
 def shooting(system, omega: float, *, initial=None, params=None, options: ShootingOptions | None = None,
              **keywords) -> PeriodicSolution:
     """Periodic solution of ``system`` (a ``periodyn.DAE`` or an element model, solved as
