@@ -1,5 +1,8 @@
 """Helpers shared by the integration tests: datasets without attributes (xarray >= 2024.1:
-``Dataset.drop_attrs`` only exists from 2024.7) and a long pendulum sweep file."""
+``Dataset.drop_attrs`` only exists from 2024.7), a long pendulum sweep file and the SIGINT
+setting of a process the tests interrupt."""
+
+import signal
 
 import xarray as xr
 
@@ -26,3 +29,10 @@ harmonics = 10
 samples = 48
 stability = "dense"
 """
+
+
+def sigint_as_in_a_terminal() -> None:
+    """``preexec_fn`` of a process the test interrupts with SIGINT: the default action, as
+    a foreground command in a terminal has it (a test run started in the background of a
+    shell without job control inherits SIGINT ignored, and Python then keeps ignoring it)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

@@ -22,7 +22,7 @@ from periodyn.engine.front import sweep_file
 from periodyn.engine.threads import WORKER_THREAD_ENV
 from periodyn.results import load
 from periodyn.studies.spec import load_sweep_file
-from tests.integration.datasets import pendulum_sweep_text, without_attrs
+from tests.integration.datasets import pendulum_sweep_text, sigint_as_in_a_terminal, without_attrs
 
 pytest.importorskip("distributed")
 
@@ -49,11 +49,24 @@ def environment() -> dict[str, str]:
     return env
 
 
+def _stderr(proc: subprocess.Popen) -> str:
+    return proc.stderr.read().decode() if proc.stderr else Path(proc.log).read_text()
+
+
+def _logged(command: list[str], log: Path) -> subprocess.Popen:
+    """A cluster process whose stderr goes to the file ``log``: a scheduler logs a line per
+    cancelled task, which fills an unread pipe and blocks it."""
+    with open(log, "wb") as sink:
+        proc = subprocess.Popen(command, env=environment(), stdout=subprocess.DEVNULL, stderr=sink)
+    proc.log = log
+    return proc
+
+
 def wait_for(condition, what: str, seconds: float = 120.0, processes=()) -> None:
     deadline = time.monotonic() + seconds
     while not condition():
         for proc in processes:
-            assert proc.poll() is None, f"{proc.args} ended early: {proc.stderr.read().decode()[-2000:]}"
+            assert proc.poll() is None, f"{proc.args} ended early: {_stderr(proc)[-2000:]}"
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(0.02)
 
@@ -65,14 +78,13 @@ def cluster(tmp_path):
     port = free_port()
     address = f"tcp://127.0.0.1:{port}"
     dask = [sys.executable, "-m", "dask"]
-    started = [subprocess.Popen(dask + ["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
-                                env=environment(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)]
+    started = [_logged(dask + ["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                       tmp_path / "scheduler.log")]
     try:
         for name in ("a", "b"):
-            started.append(subprocess.Popen(
-                dask + ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard", "--name", name,
-                        "--local-directory", str(tmp_path / f"worker-{name}")],
-                env=environment(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE))
+            started.append(_logged(dask + ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
+                                           "--name", name, "--local-directory", str(tmp_path / f"worker-{name}")],
+                                   tmp_path / f"worker-{name}.log"))
         from distributed import Client
 
         with Client(address, timeout="60s") as client:
@@ -143,7 +155,8 @@ def test_ctrl_c_on_a_cluster_sweep_exits_130_and_resumes_to_the_serial_result(cl
     parts = tmp_path / "cluster.nc.parts"
     command = [sys.executable, "-m", "periodyn.cli", "sweep", str(sweep_path), "--out", str(out),
                "--scheduler", address, "--chunk-size", str(CHUNK), "--quiet"]
-    run = subprocess.Popen(command, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    run = subprocess.Popen(command, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           preexec_fn=sigint_as_in_a_terminal)
     try:
         wait_for(lambda: len(list(parts.glob("chunk-*.npz"))) >= 3, "the first checkpointed chunks",
                  processes=[run, *workers])

@@ -27,7 +27,7 @@ from periodyn.engine.session import lock_path
 from periodyn.errors import InputError
 from periodyn.examples import pendulum
 from periodyn.results import load
-from tests.integration.datasets import without_attrs
+from tests.integration.datasets import sigint_as_in_a_terminal, without_attrs
 
 W0 = np.sqrt(9.81)
 OMEGA_A = W0 * np.linspace(0.2, 1.3, 20)
@@ -271,7 +271,7 @@ def test_ctrl_c_exits_130_with_the_resume_hint(tmp_path, workers, delay):
     proc = subprocess.Popen([sys.executable, "-m", "periodyn.cli", "sweep", str(tmp_path / "i.toml"), "--out",
                              str(out), "--workers", str(workers), "--chunk-size", "50", "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-                            env={**os.environ, "PYTHONPATH": SRC})
+                            env={**os.environ, "PYTHONPATH": SRC}, preexec_fn=sigint_as_in_a_terminal)
     deadline = time.monotonic() + 120
     # with workers: the fork server, the resource tracker and a worker forked by the server
     while len(list(parts.glob("chunk-*.npz"))) < 3 or len(descendants(proc.pid)) < (3 if workers > 1 else 0):
