@@ -97,6 +97,12 @@ def _top(mags: np.ndarray) -> np.ndarray:
     return np.where(big, np.abs(np.arange(2 * K + 1) - K), 0).max(axis=1)
 
 
+#: speeds per matrix product of the samples (the last block padded with zeros): at a fixed
+#: width every column goes through the same BLAS kernel, so a speed's rounding does not
+#: depend on its place or its neighbours (with a varying width the edge kernels differ)
+BLOCK = 16
+
+
 class SweepTruncation:
     """The indicator of :func:`balance_truncation` at many speeds of one constant-speed model.
 
@@ -106,9 +112,9 @@ class SweepTruncation:
     entry, and the harmonics l = m+1 .. max(m + band, reach) are estimated. The products take
     every coefficient harmonic up to the highest any term has above _NEGLIGIBLE of its own
     largest (B, a per-model constant) on P = 2(m + B) + 1 angles. Each speed's value depends
-    on its own data only, and every product runs per speed or as a plain einsum loop, never
-    as one matrix product across speeds (whose rounding depends on their number): a speed's
-    value is the same to the bit in any chunk."""
+    on its own data only, and every product runs per speed or on blocks of BLOCK speeds,
+    never as one matrix product over a varying number of speeds (whose rounding depends on
+    it): a speed's value is the same to the bit in any chunk."""
 
     def __init__(self, spectra: tuple[np.ndarray, ...], m: int):
         Ms, Cs, Ks, fs = spectra
@@ -147,8 +153,12 @@ class SweepTruncation:
         wp = w[:, None, None]
         Z = np.concatenate([-jw ** 2 * q] + [1j * jw * q * wp ** p for p in range(Pc)] + [q * wp ** p for p in range(Pk)],
                            axis=2)  # (S, 2m+1, Q n): harmonics of q'', w^p q', w^p q
-        z = np.ascontiguousarray(np.matmul(self.synthesis[None], Z).real)  # samples (S, P, Q n), per speed
-        r = np.einsum("jnc,sjc->sjn", self.stacked, z)  # (S, P, n)
+        z = np.matmul(self.synthesis[None], Z).real  # samples (S, P, Q n), per speed
+        blocks = -(-S // BLOCK)
+        zb = np.zeros((blocks * BLOCK,) + z.shape[1:])
+        zb[:S] = z
+        zb = np.ascontiguousarray(zb.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, Q n, BLOCK)
+        r = np.matmul(self.stacked[None], zb).transpose(0, 3, 1, 2).reshape(blocks * BLOCK, *z.shape[1:2], self.n)[:S]
         R = np.einsum("lnf,sf->sln", self.force, w[:, None] ** np.arange(self.force.shape[-1])) \
             - np.matmul(self.analysis[None], r)  # (S, L, n), per speed
         M = self.mean[0]

@@ -45,10 +45,10 @@ def test_equals_the_harmonic_convolution(case):
 def test_each_speed_is_the_same_to_the_bit_in_any_chunk():
     w1 = first_bending_frequency(slider_crank_model(0.0, rod_elements=4))
     model = omega_split(slider_crank_model(2 * 0.02 / w1, rod_elements=4), 64)
-    w = np.linspace(150.0, 300.0, 11)
+    w = np.linspace(150.0, 300.0, 21)  # two blocks of the sample products and part of a third
     q = SpeedSolver(model, 6, stability=False)._balance(w)[0]
     T = SweepTruncation(model._power_spectra[:4], 6)
     together = T(q, w)
-    for part in (slice(0, 1), slice(3, 5), slice(2, 9), slice(10, 11)):
+    for part in (slice(0, 1), slice(3, 5), slice(2, 19), slice(15, 21), slice(20, 21)):
         assert np.array_equal(T(q[part], w[part]), together[part])
     assert np.array_equal(T(q[::-1], w[::-1]), together[::-1])
