@@ -138,9 +138,13 @@ class SweepTruncation:
         self.force[inside] = fs[Kf + self.l[inside]]
 
     def tops(self, w: np.ndarray) -> np.ndarray:
-        """Highest unbalanced harmonic per speed (S,) at speeds w (S,)."""
-        band = np.minimum(_top((w[:, None] ** self.exponents) @ self.mags), self.B)
-        reach = _top((w[:, None] ** np.arange(len(self.force_mags))) @ self.force_mags)
+        """Highest unbalanced harmonic per speed (S,) at speeds w (S,) (elementwise sums, no
+        matrix product across speeds)."""
+        def bound(powers, mags):  # sum_p w^p mags[p], (S, 2K+1)
+            return (w[:, None, None] ** powers[:, None] * mags[None]).sum(axis=1)
+
+        band = np.minimum(_top(bound(self.exponents, self.mags)), self.B)
+        reach = _top(bound(np.arange(len(self.force_mags)), self.force_mags))
         return np.maximum(self.m + band, reach)
 
     def __call__(self, q: np.ndarray, omega: np.ndarray) -> np.ndarray:
