@@ -21,7 +21,7 @@ from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import amplification, balance_failure, periodic_solution
 from .harmonic.reduced_balance import ReducedBalance
-from .harmonic.truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, balance_truncation,
+from .harmonic.truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, SweepTruncation,
                                   balance_truncation_message)
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
@@ -189,6 +189,7 @@ class SpeedSolver:
         self.reduced_balance = self.stability and form == "direct" and (
             self.method == "reduced" or self.method == "auto" and model.n >= AUTO_MIN_COORDINATES)
         self._reduced: ReducedBalance | None = None
+        self._truncated: SweepTruncation | None = None
 
     @property
     def ladder(self):
@@ -316,12 +317,9 @@ class SpeedSolver:
     def _truncation(self, q: np.ndarray, w: np.ndarray) -> np.ndarray:
         """HB truncation indicators (S,) of the harmonics q (S, 2m+1, n) at speeds w (S,);
         warns (BalanceTruncationWarning) where one is above BALANCE_TRUNCATION_TOL."""
-        Ms, Cs, Ks, fs, _ = self.model._power_spectra
-        def at(A):  # the omega-polynomial (..., P) at every speed, elementwise: no speed changes another's bits
-            powers = w.reshape(-1, *(1,) * (A.ndim - 1))
-            return sum(powers ** p * A[None, ..., p] for p in range(A.shape[-1]))
-
-        indicator = balance_truncation(Ms, at(Cs), at(Ks), at(fs), q, w)
+        if self._truncated is None:
+            self._truncated = SweepTruncation(self.model._power_spectra[:4], self.m)
+        indicator = self._truncated(q, w)
         high = np.flatnonzero(indicator > BALANCE_TRUNCATION_TOL)
         if high.size:
             warnings.warn(f"{high.size} of {w.size} speeds: " + balance_truncation_message(

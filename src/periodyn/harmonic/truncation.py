@@ -12,13 +12,21 @@ indicator is the largest |q_l| relative to the largest kept |q_j| (max-norm over
 coordinates). Small means the m harmonics resolve the response; with constant
 coefficients it is 0. A sweep records it per point (``balance_truncation``) and warns
 (:class:`BalanceTruncationWarning`) where it exceeds :data:`BALANCE_TRUNCATION_TOL`.
+
+A sweep evaluates it by :class:`SweepTruncation`: the unbalanced harmonics R_l of all
+speeds by products on P = 2(m + B) + 1 angles (B the model's coefficient band; no product
+harmonic aliases onto l <= m + B), O(P n^2) per speed instead of the O(B (B + m) n^2)
+harmonic convolution and the O(B n^2) evaluation of every coefficient harmonic at omega.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message"]
+from ..numerics.spectra import min_samples, sample_angles, synthesize
+
+__all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
+           "SweepTruncation"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -74,6 +82,108 @@ def balance_truncation(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndar
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(scale > 0, out / scale, 0.0)
     return np.where(np.isfinite(q).reshape(S, -1).all(axis=1), ratio, np.nan)
+
+
+def _magnitudes(X: np.ndarray) -> np.ndarray:
+    """Largest entry modulus per harmonic (2K+1,) of a spectrum X (2K+1, ...)."""
+    return np.abs(X).reshape(X.shape[0], -1).max(axis=1)
+
+
+def _top(mags: np.ndarray) -> np.ndarray:
+    """Highest harmonic |k| per row (S,) of harmonic magnitudes (S, 2K+1) above _NEGLIGIBLE
+    of the row's largest."""
+    K = (mags.shape[1] - 1) // 2
+    big = mags > _NEGLIGIBLE * mags.max(axis=1, keepdims=True)
+    return np.where(big, np.abs(np.arange(2 * K + 1) - K), 0).max(axis=1)
+
+
+#: speeds per matrix product of the samples (the last block padded with zeros): at a fixed
+#: width every column goes through the same BLAS kernel, so a speed's rounding does not
+#: depend on its place or its neighbours (with a varying width the edge kernels differ)
+BLOCK = 16
+
+
+class SweepTruncation:
+    """The indicator of :func:`balance_truncation` at many speeds of one constant-speed model.
+
+    spectra: the model's power spectra (mass (2K+1, n, n), damping (2K+1, n, n, Pc),
+    stiffness (2K+1, n, n, Pk), force (2K+1, n, Pf)); m: harmonics. Per speed, the band and
+    the force's reach come from the bound sum_p w^p max|X_p,k| of each harmonic's largest
+    entry, and the harmonics l = m+1 .. max(m + band, reach) are estimated. The products take
+    every coefficient harmonic up to the highest any term has above _NEGLIGIBLE of its own
+    largest (B, a per-model constant) on P = 2(m + B) + 1 angles. Each speed's value depends
+    on its own data only, and every product runs per speed or on blocks of BLOCK speeds,
+    never as one matrix product over a varying number of speeds (whose rounding depends on
+    it): a speed's value is the same to the bit in any chunk."""
+
+    def __init__(self, spectra: tuple[np.ndarray, ...], m: int):
+        Ms, Cs, Ks, fs = spectra
+        terms = [Ms] + [Cs[..., p] for p in range(Cs.shape[-1])] + [Ks[..., p] for p in range(Ks.shape[-1])]
+        K, Kf = (Ms.shape[0] - 1) // 2, (fs.shape[0] - 1) // 2
+        self.m, self.n, self.powers = m, Ms.shape[1], (Cs.shape[-1], Ks.shape[-1])
+        self.mags = np.stack([_magnitudes(X) for X in terms])  # (Q, 2K+1)
+        self.exponents = np.array([0] + list(range(Cs.shape[-1])) + list(range(Ks.shape[-1])))  # w-power per term
+        self.force_mags = np.stack([_magnitudes(fs[..., p]) for p in range(fs.shape[-1])])  # (Pf, 2Kf+1)
+        self.B = B = int(_top(self.mags).max())
+        self.l = np.arange(m + 1, max(m + B, Kf) + 1)  # (L,) the unbalanced harmonics any speed can have
+        theta = sample_angles(min_samples(m, B))
+        d = np.arange(-B, B + 1) + K
+        # coefficients at the angles, stacked [M, C_p.., K_p..] along the columns, (P, n, Q n)
+        self.stacked = np.concatenate([synthesize(X[d], theta) for X in terms], axis=2)
+        self.synthesis = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))  # (P, 2m+1)
+        self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
+        self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
+        inside = self.l <= Kf
+        self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
+        self.force[inside] = fs[Kf + self.l[inside]]
+
+    def tops(self, w: np.ndarray) -> np.ndarray:
+        """Highest unbalanced harmonic per speed (S,) at speeds w (S,) (elementwise sums, no
+        matrix product across speeds)."""
+        def bound(powers, mags):  # sum_p w^p mags[p], (S, 2K+1)
+            return (w[:, None, None] ** powers[:, None] * mags[None]).sum(axis=1)
+
+        band = np.minimum(_top(bound(self.exponents, self.mags)), self.B)
+        reach = _top(bound(np.arange(len(self.force_mags)), self.force_mags))
+        return np.maximum(self.m + band, reach)
+
+    def __call__(self, q: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        """Indicators (S,) of the HB solutions q (S, 2m+1, n) at speeds omega (S,) rad/s (NaN
+        where q is not finite)."""
+        w = np.asarray(omega, float)
+        S, m, (Pc, Pk) = w.size, self.m, self.powers
+        top = self.tops(w)
+        jw = (np.arange(-m, m + 1)[None, :] * w[:, None])[..., None]  # (S, 2m+1, 1)
+        wp = w[:, None, None]
+        Z = np.concatenate([-jw ** 2 * q] + [1j * jw * q * wp ** p for p in range(Pc)] + [q * wp ** p for p in range(Pk)],
+                           axis=2)  # (S, 2m+1, Q n): harmonics of q'', w^p q', w^p q
+        z = np.matmul(self.synthesis[None], Z).real  # samples (S, P, Q n), per speed
+        blocks = -(-S // BLOCK)
+        zb = np.zeros((blocks * BLOCK,) + z.shape[1:])
+        zb[:S] = z
+        zb = np.ascontiguousarray(zb.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, Q n, BLOCK)
+        r = np.matmul(self.stacked[None], zb).transpose(0, 3, 1, 2).reshape(blocks * BLOCK, *z.shape[1:2], self.n)[:S]
+        R = np.einsum("lnf,sf->sln", self.force, w[:, None] ** np.arange(self.force.shape[-1])) \
+            - np.matmul(self.analysis[None], r)  # (S, L, n), per speed
+        M = self.mean[0]
+        C = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
+        Kw = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
+        out = np.zeros(S)
+        for i, l in enumerate(self.l):
+            at = np.flatnonzero(l <= top)
+            if not at.size:
+                break
+            lw = (l * w[at])[:, None, None]
+            D = -lw ** 2 * M + 1j * lw * C[at] + Kw[at]
+            try:
+                est = np.abs(np.linalg.solve(D, R[at, i, :, None])[..., 0])
+            except np.linalg.LinAlgError:  # one speed's mean system resonates at harmonic l
+                est = np.array([_estimate(D[j], R[s, i]) for j, s in enumerate(at)])
+            out[at] = np.maximum(out[at], est.max(axis=1))
+        scale = np.abs(q).reshape(S, -1).max(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = np.where(scale > 0, out / scale, 0.0)
+        return np.where(np.isfinite(q).reshape(S, -1).all(axis=1), ratio, np.nan)
 
 
 def _estimate(D: np.ndarray, R: np.ndarray) -> np.ndarray:

@@ -55,6 +55,10 @@ AUTO_MIN_COORDINATES = 2 * START_MODES
 CORRECTION_COST = (1.0e-10, 2.0e-3)
 LADDER_CLIMB = 4.0  # the reduced ladder's time over its first comparison (3.5 on the 32-element slider-crank)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
+# a null vector whose harmonic energy centroid is within this of half a harmonic from 0 is
+# centred: on the line Im(lambda) = w/2 (a negative real multiplier) the centroid is +-1/2, and
+# the shifts by -+1 only swap the two equally centred vectors
+CENTRE_SLACK = 0.01
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
 DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
 JACOBI_STEPS = 20  # Jacobi sweeps on the mean truncated blocks D_a before their dense solve
@@ -233,7 +237,8 @@ class ReducedStability:
             x, y = _null_vectors(M * (sc * sc) + C * sc + K)
             x, y = x.reshape(2 * m + 1, k), y.reshape(2 * m + 1, k)
             energy = (np.abs(x) ** 2).sum(axis=1)
-            shift = int(np.rint(energy @ a / energy.sum()))
+            centroid = energy @ a / energy.sum()
+            shift = int(np.rint(centroid)) if abs(centroid) > 0.5 + CENTRE_SLACK else 0
             if shift == 0:
                 break
             lam = lam + 1j * shift * w
