@@ -311,3 +311,18 @@ def test_an_interrupt_inside_a_c_call_is_an_interrupt(monkeypatch, capsys):
     monkeypatch.setitem(cli._COMMANDS, "sweep", hit)
     assert main(["sweep", "any.toml"]) == 130
     assert capsys.readouterr().err == "periodyn sweep: interrupted; finished chunks are kept, continue with --resume\n"
+
+
+def test_a_worker_cut_off_while_starting_ends_without_a_traceback(capsys, monkeypatch):
+    """The fork server's hook: a worker whose start data were cut off (the sweep stopped
+    while handing them over) says nothing; any other failure is printed as before."""
+    import pickle
+
+    monkeypatch.setattr(sys, "excepthook", sys.excepthook)  # importing the module sets it in this process
+    from periodyn.engine import _forkserver_preload as preload
+
+    for kind in (pickle.UnpicklingError, EOFError):
+        preload._quiet_when_the_sweep_stopped(kind, kind("pickle data was truncated"), None)
+    assert capsys.readouterr().err == ""
+    preload._quiet_when_the_sweep_stopped(ValueError, ValueError("a real failure"), None)
+    assert "a real failure" in capsys.readouterr().err
