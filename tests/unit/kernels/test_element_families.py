@@ -9,7 +9,8 @@ from pathlib import Path
 
 import periodyn
 from periodyn.kernels.elements import layout
-from periodyn.kernels.mechanism.constraint_system import PLANAR_FAMILIES
+from periodyn.kernels.mechanism.constraint_system import (PLANAR_FAMILIES, ModelArrays, PlanarArrays, SpatialArrays,
+                                                          arrays_class)
 
 SRC = Path(periodyn.__file__).parent
 KERNELS = SRC / "kernels"
@@ -65,6 +66,16 @@ def test_every_family_is_in_its_sets_class():
     planar = set(_dispatch(KERNELS / "mechanism" / "constraint_system.py", "planar_deformation"))
     planar |= set(_dispatch(KERNELS / "mechanism" / "assembly.py", "planar_inertia"))
     assert {getattr(layout, name) for name in planar} == PLANAR_FAMILIES
+
+
+def test_the_arrays_class_follows_the_family_set():
+    """Planar ids (or none) pick the planar dispatch, spatial ids the spatial one, a mix both."""
+    spatial = sorted(getattr(layout, name) for name in _family_ids()
+                     if getattr(layout, name) not in PLANAR_FAMILIES)
+    assert arrays_class(sorted(PLANAR_FAMILIES)) is PlanarArrays and arrays_class([]) is PlanarArrays
+    assert arrays_class(spatial) is SpatialArrays
+    assert arrays_class([layout.FAMILY_PLANAR_BEAM, layout.FAMILY_SPATIAL_BEAM]) is ModelArrays
+    assert PlanarArrays._fields == SpatialArrays._fields == ModelArrays._fields
 
 
 def test_every_family_id_is_dispatched_once():

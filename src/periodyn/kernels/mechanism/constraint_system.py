@@ -55,12 +55,12 @@ PLANAR_FAMILIES = frozenset((FAMILY_PLANAR_BEAM, FAMILY_PLANAR_TRUSS, FAMILY_PLA
 
 
 def arrays_class(families) -> type:
-    """The packed-arrays class for a model with element family ids ``families``: planar,
-    spatial (no planar family; also a model without elements) or, for a mix, ModelArrays."""
+    """The packed-arrays class for a model with element family ids ``families``: planar
+    (also a model without elements: the smaller dispatch), spatial, or for a mix ModelArrays."""
     planar = {int(f) in PLANAR_FAMILIES for f in families}
-    if planar == {True}:
+    if planar <= {True}:
         return PlanarArrays
-    return SpatialArrays if planar != {True, False} else ModelArrays
+    return SpatialArrays if planar == {False} else ModelArrays
 
 
 @njit(cache=True)
