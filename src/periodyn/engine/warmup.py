@@ -83,12 +83,13 @@ def _dae() -> None:
 
 
 #: (what, CPU seconds a cold compile takes on one core, function), in the order reported;
-#: measured for the speed solver (pendulum sweep), element models (slider-crank sweep, less
-#: the solver) and DAEs, estimated for the others
+#: measured for the speed solver (pendulum sweep), planar and spatial element models
+#: (slider-crank and Cardan-shaft element sweeps at -O1, less the solver) and DAEs, estimated
+#: for the others
 STEPS: tuple[tuple[str, float, Callable[[], None]], ...] = (
     ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 50.0, _speed_solver),
-    ("element models (kinematics, planar beam/truss/hinge linearization)", 210.0, _element_models),
-    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 200.0, _spatial_models),
+    ("element models (kinematics, planar beam/truss/hinge linearization)", 45.0, _element_models),
+    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 90.0, _spatial_models),
     ("non-linear element models (implicit shooting)", 150.0, _nonlinear_element_models),
     ("DAE harmonic balance (IHB)", 26.0, _dae),
 )
@@ -151,11 +152,12 @@ def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float
     return time.perf_counter() - start
 
 
-#: CPU seconds (one core, cold cache, numba 0.68) of the outermost compiles of each kernel
-#: module in a first run, callees included (``benchmarks/compile_profile.py`` on the
-#: slider-crank and pendulum sweep files)
-FAMILY_SECONDS = {"mechanism.split": 32.0, "mechanism.constraint_system": 60.0, "mechanism.assembly": 50.0,
-                  "solvers.magnus_ladder": 42.0, "mechanism.transfer": 33.0, "solvers.floquet": 7.0,
+#: CPU seconds (one core, cold cache, numba 0.68, LLVM -O1) of the outermost compiles of
+#: each kernel module in a first run, callees included (``benchmarks/compile_profile.py`` on
+#: the slider-crank and Cardan-shaft element sweep files: the larger of the two; a planar
+#: model compiles the mechanism modules in about 40 % of these)
+FAMILY_SECONDS = {"mechanism.split": 13.0, "mechanism.constraint_system": 32.0, "mechanism.assembly": 26.0,
+                  "solvers.magnus_ladder": 22.0, "mechanism.transfer": 13.0, "solvers.floquet": 7.0,
                   "solvers.banded": 5.0}
 
 

@@ -22,8 +22,12 @@ Adding an element family (``tests/unit/kernels/test_element_families.py`` checks
    element has inertia, ``inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)``, under the
    conventions of :mod:`.elements.layout` (which also documents the argument shapes).
 2. ``elements/layout.py``: a new id ``FAMILY_<NAME>``.
-3. ``mechanism/constraint_system.py``: one branch of ``deformation`` (the modes) and, with
-   inertia, ``mechanism/assembly.py``: one branch of ``element_arrays``.
+3. ``mechanism/constraint_system.py``: one branch of ``planar_deformation`` or
+   ``spatial_deformation`` (the modes; a planar family's id also joins ``PLANAR_FAMILIES``)
+   and, with inertia, ``mechanism/assembly.py``: one branch of ``planar_inertia`` or
+   ``spatial_inertia``. A model's packed arrays are of the class of its family set
+   (``PlanarArrays``, ``SpatialArrays`` or, mixed, ``ModelArrays``) and each kernel compiles
+   only that set's branches.
 4. ``periodyn/model/``: the element's data class with ``family = FAMILY_<NAME>`` and its
    parameter rows (``par``, ``ipar``, nodes, modes), re-exported by ``periodyn.model``.
 5. ``tests/twins/``: a plain-NumPy twin of each kernel, and a test in ``tests/unit/kernels/``

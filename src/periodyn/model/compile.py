@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..kernels.mechanism.constraint_system import ModelArrays
+from ..kernels.mechanism.constraint_system import ModelArrays, arrays_class
 from .elements import FLEXIBLE, FREE, PRESCRIBED, IndependentElement
 from .outputs import OutputMap
 
@@ -24,7 +24,8 @@ __all__ = ["CompiledModel", "compile_model"]
 class CompiledModel:
     """A model compiled for the kernels (built once per model).
 
-    arrays: :class:`periodyn.kernels.mechanism.constraint_system.ModelArrays`; coordinate_names (n_x,),
+    arrays: :class:`periodyn.kernels.mechanism.constraint_system.ModelArrays` (or its planar-only or
+    spatial-only twin class of the same fields, :func:`~.constraint_system.arrays_class`); coordinate_names (n_x,),
     x_reference (n_x,), mode_names (n_modes,), input_names / input_rates (n_r,) with
     q^r = rates * theta, dynamic_names (n_d,), outputs (compiled
     :class:`periodyn.model.outputs.OutputMap`, one per output), independent elements
@@ -122,9 +123,9 @@ def compile_model(model) -> CompiledModel:
     family, dofs, ndof, par, ipar, modes, nmode, stiff, damp, stress0 = _element_data(elements, index, x_ref,
                                                                                      mode_status)
     nodal_mass, nodal_force = _nodal_data(model, index)
-    arrays = ModelArrays(family, dofs, ndof, par, modes, nmode, stiff, damp, stress0, ipar,
-                         np.array(model.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
-                         len(input_names), nodal_mass, nodal_force)
+    arrays = arrays_class(family)(family, dofs, ndof, par, modes, nmode, stiff, damp, stress0, ipar,
+                                  np.array(model.gravity, dtype=float), mode_row, coord_row, rhs0, rhs_q,
+                                  len(input_names), nodal_mass, nodal_force)
     outputs = tuple(OutputMap(o.name, o.kind, np.array([index[c] for c in o.coordinates()], dtype=np.int64),
                               getattr(o, "reference_length", getattr(o, "scale", 1.0)), getattr(o, "element", -1),
                               getattr(o, "index", -1), None if o.kind != "body_component"

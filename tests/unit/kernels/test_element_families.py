@@ -8,6 +8,9 @@ import ast
 from pathlib import Path
 
 import periodyn
+from periodyn.kernels.elements import layout
+from periodyn.kernels.mechanism.constraint_system import (PLANAR_FAMILIES, ModelArrays, PlanarArrays, SpatialArrays,
+                                                          arrays_class)
 
 SRC = Path(periodyn.__file__).parent
 KERNELS = SRC / "kernels"
@@ -26,7 +29,7 @@ def _family_ids() -> set[str]:
 
 def _dispatch(path: Path, function: str) -> dict[str, tuple[str, str]]:
     """{FAMILY_X: (module, kernel)} of the if/elif chain ``if <v> == FAMILY_X: module.kernel(...)``
-    inside ``function`` of ``path``."""
+    inside ``function`` of ``path`` (one chain per family set, ``planar_``/``spatial_``)."""
     found = {}
     for node in ast.walk(_tree(path)):
         if isinstance(node, ast.FunctionDef) and node.name == function:
@@ -47,8 +50,32 @@ def _kernels(module: str) -> set[str]:
     return {node.name for node in tree.body if isinstance(node, ast.FunctionDef)}
 
 
-MODES = _dispatch(KERNELS / "mechanism" / "constraint_system.py", "deformation")
-INERTIA = _dispatch(KERNELS / "mechanism" / "assembly.py", "element_arrays")
+def _sets(path: Path, function: str) -> dict[str, tuple[str, str]]:
+    """The planar and spatial dispatch chains of ``function`` in ``path``, which share no family."""
+    planar, spatial = _dispatch(path, f"planar_{function}"), _dispatch(path, f"spatial_{function}")
+    assert not set(planar) & set(spatial), f"{path.name}: a family in both the planar and the spatial {function}"
+    return planar | spatial
+
+
+MODES = _sets(KERNELS / "mechanism" / "constraint_system.py", "deformation")
+INERTIA = _sets(KERNELS / "mechanism" / "assembly.py", "inertia")
+
+
+def test_every_family_is_in_its_sets_class():
+    """A family's arrays class (recipe step 3) follows its chain: planar ids make PlanarArrays."""
+    planar = set(_dispatch(KERNELS / "mechanism" / "constraint_system.py", "planar_deformation"))
+    planar |= set(_dispatch(KERNELS / "mechanism" / "assembly.py", "planar_inertia"))
+    assert {getattr(layout, name) for name in planar} == PLANAR_FAMILIES
+
+
+def test_the_arrays_class_follows_the_family_set():
+    """Planar ids (or none) pick the planar dispatch, spatial ids the spatial one, a mix both."""
+    spatial = sorted(getattr(layout, name) for name in _family_ids()
+                     if getattr(layout, name) not in PLANAR_FAMILIES)
+    assert arrays_class(sorted(PLANAR_FAMILIES)) is PlanarArrays and arrays_class([]) is PlanarArrays
+    assert arrays_class(spatial) is SpatialArrays
+    assert arrays_class([layout.FAMILY_PLANAR_BEAM, layout.FAMILY_SPATIAL_BEAM]) is ModelArrays
+    assert PlanarArrays._fields == SpatialArrays._fields == ModelArrays._fields
 
 
 def test_every_family_id_is_dispatched_once():

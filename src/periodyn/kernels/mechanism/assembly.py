@@ -9,8 +9,9 @@ function and its derivatives in :mod:`.transfer`; ``ModelArrays``, ``allocate_te
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
-from .constraint_system import ModelArrays, allocate_tensors, element_tensors
+from .constraint_system import ModelArrays, PlanarArrays, SpatialArrays, allocate_tensors, element_tensors
 from ..elements.elastic import add_elastic
 from ..elements.layout import FAMILY_PLANAR_BEAM, FAMILY_PLANAR_TRUSS, FAMILY_RIGID_BODY, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_TRUSS
 from ..elements import planar_beam, planar_truss, rigid_body, spatial_beam, spatial_truss
@@ -39,6 +40,52 @@ def add_adjoint_curvature(arr, Dxx, mu, Ke):
                     Ke[e, p, q] -= m * Dxx[e, k, p, q]
 
 
+def inertia(arr, family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+    """The inertia kernel of the element family with id ``family`` (a family without inertia
+    does nothing), dispatched over the families of ``arr``'s class (see
+    :mod:`.constraint_system`; in jitted code the dispatch is chosen at typing time)."""
+    _INERTIA[type(arr)](family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+
+
+@njit(cache=True)
+def planar_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+    """:func:`inertia` over the planar families (other ids do nothing)."""
+    if family == FAMILY_PLANAR_BEAM:
+        planar_beam.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+    elif family == FAMILY_PLANAR_TRUSS:
+        planar_truss.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+
+
+@njit(cache=True)
+def spatial_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+    """:func:`inertia` over the spatial families (other ids do nothing)."""
+    if family == FAMILY_SPATIAL_TRUSS:
+        spatial_truss.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+    elif family == FAMILY_RIGID_BODY:
+        rigid_body.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+    elif family == FAMILY_SPATIAL_BEAM:
+        spatial_beam.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+
+
+@njit(cache=True)
+def mixed_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+    """:func:`inertia` over every family."""
+    planar_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+    spatial_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+
+
+_INERTIA = {PlanarArrays: planar_inertia, SpatialArrays: spatial_inertia, ModelArrays: mixed_inertia}
+
+
+@overload(inertia)
+def _inertia_of_class(arr, family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+    kernel = _INERTIA[arr.instance_class]
+
+    def impl(arr, family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
+        kernel(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
+    return impl
+
+
 @njit(cache=True)
 def element_arrays(arr, x, v, a, D, Dx, Dxx, Me, Ce, Ke, r):
     """Element inertia/elastic arrays at (x, v, a): overwrites Me, Ce, Ke (ne, w, w) (the
@@ -62,17 +109,7 @@ def element_arrays(arr, x, v, a, D, Dx, Dxx, Me, Ce, Ke, r):
             ve[i] = v[g]
             ae[i] = a[g]
         re[:] = 0.0
-        fam = arr.family[e]
-        if fam == FAMILY_PLANAR_BEAM:
-            planar_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
-        elif fam == FAMILY_PLANAR_TRUSS:
-            planar_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
-        elif fam == FAMILY_SPATIAL_TRUSS:
-            spatial_truss.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
-        elif fam == FAMILY_RIGID_BODY:
-            rigid_body.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
-        elif fam == FAMILY_SPATIAL_BEAM:
-            spatial_beam.inertia(xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
+        inertia(arr, arr.family[e], xe, ve, ae, arr.ipar[e], arr.gravity, Me[e], re, Ce[e], Ke[e])
         add_elastic(arr.nmode[e], nd, D[e], Dx[e], Dxx[e], ve, arr.stiffness[e], arr.damping[e], arr.stress0[e],
                     re, Ce[e], Ke[e])
         for i in range(nd):

@@ -7,12 +7,20 @@ arrays (:data:`ModelArrays`), the element tensors and their contractions.
 Nothing here assumes two dimensions: a family is dispatched by its integer id to its
 deformation kernel, and local arrays are as wide as the widest family of the model (the
 widths of ``dofs`` and ``modes``, see :mod:`.layout`).
+
+Dispatch per family set: the packed arrays come in three namedtuple classes with the same
+fields, :data:`PlanarArrays` (planar families only), :data:`SpatialArrays` (spatial only)
+and :data:`ModelArrays` (any mix), chosen by :func:`arrays_class`. The family dispatch
+(:func:`deformation`) is chosen at typing time from the arrays' class, so every kernel
+taking ``arr`` is compiled once per class in use and a planar model never compiles (nor
+links and optimizes again) the spatial families, nor a spatial model the planar ones.
 """
 
 from collections import namedtuple
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
 from ..elements.layout import (FAMILY_EULER_NORMALIZATION, FAMILY_PLANAR_BEAM, FAMILY_PLANAR_HINGE, FAMILY_PLANAR_TRUSS,
                      FAMILY_RIGID_LINK, FAMILY_SPATIAL_BEAM, FAMILY_SPATIAL_HINGE, FAMILY_SPATIAL_TRUSS)
@@ -20,7 +28,7 @@ from ..elements import planar_beam, planar_hinge, planar_truss, spatial_beam, sp
 
 TWO_PI = 2.0 * np.pi
 
-ModelArrays = namedtuple("ModelArrays", [
+_FIELDS = [
     "family",       # (ne,) int64 family id
     "dofs",         # (ne, n_dof) int64 global nodal-coordinate index, -1 padded
     "ndof",         # (ne,) int64
@@ -39,7 +47,20 @@ ModelArrays = namedtuple("ModelArrays", [
     "n_input",      # int, q^r = q[:n_input], q^d = q[n_input:]
     "nodal_mass",   # (n_x,) point masses / rotational inertias, kg or kg m^2
     "nodal_force",  # (n_x,) constant forces (N) / torques (N m) incl. gravity on point masses
-])
+]
+ModelArrays = namedtuple("ModelArrays", _FIELDS)  # any mix of element families
+PlanarArrays = namedtuple("PlanarArrays", _FIELDS)  # planar families only
+SpatialArrays = namedtuple("SpatialArrays", _FIELDS)  # spatial families only
+PLANAR_FAMILIES = frozenset((FAMILY_PLANAR_BEAM, FAMILY_PLANAR_TRUSS, FAMILY_PLANAR_HINGE))
+
+
+def arrays_class(families) -> type:
+    """The packed-arrays class for a model with element family ids ``families``: planar
+    (also a model without elements: the smaller dispatch), spatial, or for a mix ModelArrays."""
+    planar = {int(f) in PLANAR_FAMILIES for f in families}
+    if planar <= {True}:
+        return PlanarArrays
+    return SpatialArrays if planar == {False} else ModelArrays
 
 
 @njit(cache=True)
@@ -52,21 +73,31 @@ def element_tensors(arr, x, D, Dx, Dxx, Dxxx):
         nd = arr.ndof[e]
         for a in range(nd):
             xe[a] = x[arr.dofs[e, a]]
-        deformation(arr.family[e], xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+        deformation(arr, arr.family[e], xe, arr.par[e], D[e], Dx[e], Dxx[e], Dxxx[e])
+
+
+def deformation(arr, family, xe, par, D, Dx, Dxx, Dxxx):
+    """The deformation kernel of the element family with id ``family``, dispatched over the
+    families of ``arr``'s class (a family without modes, such as a rigid body, leaves D and
+    its derivatives as they are). In jitted code the dispatch is chosen at typing time."""
+    _DEFORMATION[type(arr)](family, xe, par, D, Dx, Dxx, Dxxx)
 
 
 @njit(cache=True)
-def deformation(family, xe, par, D, Dx, Dxx, Dxxx):
-    """The deformation kernel of the element family with id ``family``, the one dispatch
-    over families (a family without modes, such as a rigid body, leaves D and its
-    derivatives as they are)."""
+def planar_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
+    """:func:`deformation` over the planar families (other ids do nothing)."""
     if family == FAMILY_PLANAR_BEAM:
         planar_beam.deformation(xe, par, D, Dx, Dxx, Dxxx)
     elif family == FAMILY_PLANAR_TRUSS:
         planar_truss.deformation(xe, par, D, Dx, Dxx, Dxxx)
     elif family == FAMILY_PLANAR_HINGE:
         planar_hinge.deformation(xe, par, D, Dx, Dxx, Dxxx)
-    elif family == FAMILY_SPATIAL_BEAM:
+
+
+@njit(cache=True)
+def spatial_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
+    """:func:`deformation` over the spatial families (other ids do nothing)."""
+    if family == FAMILY_SPATIAL_BEAM:
         spatial_beam.deformation(xe, par, D, Dx, Dxx, Dxxx)
     elif family == FAMILY_EULER_NORMALIZATION:
         spatial_joints.normalization(xe, par, D, Dx, Dxx, Dxxx)
@@ -76,6 +107,25 @@ def deformation(family, xe, par, D, Dx, Dxx, Dxxx):
         spatial_joints.hinge(xe, par, D, Dx, Dxx, Dxxx)
     elif family == FAMILY_RIGID_LINK:
         spatial_joints.rigid_link(xe, par, D, Dx, Dxx, Dxxx)
+
+
+@njit(cache=True)
+def mixed_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
+    """:func:`deformation` over every family (one of the two sets matches)."""
+    planar_deformation(family, xe, par, D, Dx, Dxx, Dxxx)
+    spatial_deformation(family, xe, par, D, Dx, Dxx, Dxxx)
+
+
+_DEFORMATION = {PlanarArrays: planar_deformation, SpatialArrays: spatial_deformation, ModelArrays: mixed_deformation}
+
+
+@overload(deformation)
+def _deformation_of_class(arr, family, xe, par, D, Dx, Dxx, Dxxx):
+    kernel = _DEFORMATION[arr.instance_class]
+
+    def impl(arr, family, xe, par, D, Dx, Dxx, Dxxx):
+        kernel(family, xe, par, D, Dx, Dxx, Dxxx)
+    return impl
 
 
 @njit(cache=True)
