@@ -25,7 +25,7 @@ __all__ = ["kernels_cached", "compile_ahead", "warm_up", "announce_compiles", "S
 
 #: kernel modules the speed solver calls at every sweep point
 _SOLVER_KERNELS = ("solvers/banded", "solvers/floquet", "solvers/magnus_ladder", "mechanism/outputs")  # kernels/...
-COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 30-260 s of CPU; "
+COMPILE_NOTE = ("compiling the numerical kernels on first use (once per install, 25-125 s of CPU; "
                 "`periodyn warmup` does it ahead)")
 
 
@@ -83,14 +83,14 @@ def _dae() -> None:
 
 
 #: (what, CPU seconds a cold compile takes on one core, function), in the order reported;
-#: measured for the speed solver (pendulum sweep), planar and spatial element models
-#: (slider-crank and Cardan-shaft element sweeps at -O1, less the solver) and DAEs, estimated
-#: for the others
+#: measured at -O1: the speed solver and implicit shooting by benchmarks/bench_opt_level.py,
+#: planar and spatial element models by the slider-crank and Cardan-shaft element sweeps
+#: (less the solver), the DAE by bench_cold_start.py
 STEPS: tuple[tuple[str, float, Callable[[], None]], ...] = (
-    ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 50.0, _speed_solver),
+    ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 32.0, _speed_solver),
     ("element models (kinematics, planar beam/truss/hinge linearization)", 45.0, _element_models),
     ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 90.0, _spatial_models),
-    ("non-linear element models (implicit shooting)", 150.0, _nonlinear_element_models),
+    ("non-linear element models (implicit shooting)", 75.0, _nonlinear_element_models),
     ("DAE harmonic balance (IHB)", 26.0, _dae),
 )
 
