@@ -187,7 +187,7 @@ def test_warmup_reports_each_step(capsys):
     out = capsys.readouterr().out.splitlines()
     k = len(STEPS)
     steps = sorted(line for line in out if line.startswith("warmup ["))  # as they finish, in parallel processes
-    assert k == 5 and len(steps) == k and all(line.startswith(f"warmup [{i}/{k}] ") and line.endswith(" s")
+    assert k == 6 and len(steps) == k and all(line.startswith(f"warmup [{i}/{k}] ") and line.endswith(" s")
                                               for i, line in enumerate(steps, 1))
     assert out[-1].startswith("kernels compiled and cached in")
 
