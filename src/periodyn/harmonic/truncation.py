@@ -41,10 +41,7 @@ class BalanceTruncationWarning(UserWarning):
 def _reach(S: int, *spectra: np.ndarray) -> np.ndarray:
     """Highest harmonic |k| per speed (S,) with an entry above _NEGLIGIBLE of that speed's
     largest, over spectra (S, 2K+1, ...) (index k+K)."""
-    mags = sum(np.abs(x).reshape(S, x.shape[1], -1).max(axis=2) for x in spectra)  # (S, 2K+1)
-    K = (mags.shape[1] - 1) // 2
-    big = mags > _NEGLIGIBLE * mags.max(axis=1, keepdims=True)
-    return np.where(big, np.abs(np.arange(2 * K + 1) - K), 0).max(axis=1)
+    return _top(sum(np.abs(x).reshape(S, x.shape[1], -1).max(axis=2) for x in spectra))  # of (S, 2K+1)
 
 
 def balance_truncation(mass: np.ndarray, damping: np.ndarray, stiffness: np.ndarray, force: np.ndarray,
