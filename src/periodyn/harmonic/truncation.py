@@ -111,6 +111,13 @@ BLOCK = 16
 #: a harmonic is solved where SLACK times its bound reaches the largest estimate so far (room
 #: for the rounding of the bound and of the solve: measured bounds are 1.0-1.3x the estimate)
 SLACK = 2.0
+#: a coefficient harmonic below FLOOR times the noise floor of the terms (the largest entry
+#: modulus of their top quarter of harmonics, where that is resolved) is noise: at 128 rod
+#: elements the floor is 3e-13 of the largest entry, from the kinematic Newton tolerance;
+#: measured noise harmonics reach 1.2x the floor, the mass's smallest kept harmonics 6x
+FLOOR = 3.0
+#: a term's top quarter of harmonics is its noise floor where below this of its largest
+RESOLVED = 1e-8
 
 
 class SweepTruncation:
@@ -138,8 +145,8 @@ class SweepTruncation:
         self.l = np.arange(m + 1, max(m + B, Kf) + 1)  # (L,) the unbalanced harmonics any speed can have
         theta = sample_angles(min_samples(m, B))
         d = np.arange(-B, B + 1) + K
-        # coefficients at the angles, stacked [M, C_p.., K_p..] along the columns, (P, n, Q n)
-        self.stacked = np.concatenate([synthesize(X[d], theta) for X in terms], axis=2)
+        self.floors = _noise_floors(self.mags)  # (Q,)
+        self.samples = [synthesize(X[d], theta) for X in terms]  # each term at the angles, (P, n, n)
         self.synthesis = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))  # (P, 2m+1)
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
@@ -148,42 +155,65 @@ class SweepTruncation:
         self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
         self.force[inside] = fs[Kf + self.l[inside]]
 
-    def tops(self, w: np.ndarray) -> np.ndarray:
-        """Highest unbalanced harmonic per speed (S,) at speeds w (S,) (elementwise sums, no
-        matrix product across speeds)."""
-        def bound(powers, mags):  # sum_p w^p mags[p], (S, 2K+1)
-            return (w[:, None, None] ** powers[:, None] * mags[None]).sum(axis=1)
+    def content(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Coefficient band (S,) and the terms the products take (S, Q) at speeds w (S,)
+        (elementwise, per speed). The band: the highest harmonic of the bound sum_p w^p
+        max|X_p,k| above the larger of _NEGLIGIBLE of its largest and FLOOR times the terms'
+        noise floors sum_p w^p floor_p. A term with a noise floor is taken where a non-mean
+        harmonic rises FLOOR times above it; one without (not decayed, or exactly zero) where
+        one is above _NEGLIGIBLE of the bound's largest."""
+        terms = w[:, None, None] ** self.exponents[:, None] * self.mags[None]  # (S, Q, 2K+1)
+        total = terms.sum(axis=1)
+        largest = _NEGLIGIBLE * total.max(axis=1)
+        cut = np.maximum(largest, FLOOR * (w[:, None] ** self.exponents * self.floors).sum(axis=1))
+        k = np.abs(np.arange(total.shape[1]) - (total.shape[1] - 1) // 2)
+        band = np.minimum(np.where(total > cut[:, None], k, 0).max(axis=1), self.B)
+        above = (self.mags[:, k > 0] > FLOOR * self.floors[:, None]).any(axis=1) & (self.floors > 0)  # (Q,)
+        flat = (self.floors == 0) & (terms[:, :, k > 0] > largest[:, None, None]).any(axis=2)  # (S, Q)
+        return band, above | flat
 
-        band = np.minimum(_top(bound(self.exponents, self.mags)), self.B)
-        reach = _top(bound(np.arange(len(self.force_mags)), self.force_mags))
-        return np.maximum(self.m + band, reach)
+    def tops(self, w: np.ndarray) -> np.ndarray:
+        """Highest unbalanced harmonic per speed (S,) at speeds w (S,): the band of
+        :meth:`content` past m, or the force's reach if higher."""
+        reach = _top((w[:, None, None] ** np.arange(len(self.force_mags))[:, None] * self.force_mags[None]).sum(axis=1))
+        return np.maximum(self.m + self.content(w)[0], reach)
+
+    def unbalanced(self, q: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Unbalanced harmonics R (S, L, n) (index l - m - 1) of the HB solutions q (S, 2m+1, n)
+        at speeds w (S,), from the terms :meth:`content` finds at each speed: per term, the
+        samples of its harmonics of q'', w^p q' or w^p q per speed, times the term's samples on
+        blocks of BLOCK speeds, summed per speed in term order."""
+        S, m, (Pc, Pk) = w.size, self.m, self.powers
+        used = self.content(w)[1]  # (S, Q)
+        jw = (np.arange(-m, m + 1)[None, :] * w[:, None])[..., None]  # (S, 2m+1, 1)
+        wp = w[:, None, None]
+        factors = [-jw ** 2] + [1j * jw * wp ** p for p in range(Pc)] + [wp ** p + 0 * jw for p in range(Pk)]
+        blocks = -(-S // BLOCK)
+        r = np.zeros((blocks * BLOCK, self.synthesis.shape[0], self.n))  # (S padded, P, n)
+        for t in np.flatnonzero(used.any(axis=0)):
+            z = np.zeros((blocks * BLOCK, self.synthesis.shape[0], self.n))
+            z[:S] = np.matmul(self.synthesis[None], factors[t] * q).real  # samples, per speed
+            zb = np.ascontiguousarray(z.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, n, BLOCK)
+            rt = np.matmul(self.samples[t][None], zb).transpose(0, 3, 1, 2).reshape(r.shape)
+            r[:S] += np.where(used[:, t, None, None], rt[:S], 0.0)
+        return np.einsum("lnf,sf->sln", self.force, w[:, None] ** np.arange(self.force.shape[-1])) \
+            - np.matmul(self.analysis[None], r[:S])  # (S, L, n), per speed
 
     def __call__(self, q: np.ndarray, omega: np.ndarray) -> np.ndarray:
         """Indicators (S,) of the HB solutions q (S, 2m+1, n) at speeds omega (S,) rad/s (NaN
         where q is not finite)."""
         w = np.asarray(omega, float)
-        S, m, (Pc, Pk) = w.size, self.m, self.powers
+        S, Pc = w.size, self.powers[0]
         top = self.tops(w)
-        jw = (np.arange(-m, m + 1)[None, :] * w[:, None])[..., None]  # (S, 2m+1, 1)
-        wp = w[:, None, None]
-        Z = np.concatenate([-jw ** 2 * q] + [1j * jw * q * wp ** p for p in range(Pc)] + [q * wp ** p for p in range(Pk)],
-                           axis=2)  # (S, 2m+1, Q n): harmonics of q'', w^p q', w^p q
-        z = np.matmul(self.synthesis[None], Z).real  # samples (S, P, Q n), per speed
-        blocks = -(-S // BLOCK)
-        zb = np.zeros((blocks * BLOCK,) + z.shape[1:])
-        zb[:S] = z
-        zb = np.ascontiguousarray(zb.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, Q n, BLOCK)
-        r = np.matmul(self.stacked[None], zb).transpose(0, 3, 1, 2).reshape(blocks * BLOCK, *z.shape[1:2], self.n)[:S]
-        R = np.einsum("lnf,sf->sln", self.force, w[:, None] ** np.arange(self.force.shape[-1])) \
-            - np.matmul(self.analysis[None], r)  # (S, L, n), per speed
+        R = self.unbalanced(q, w)
         M = self.mean[0]
         C = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
         Kw = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
         bound = self.bounds(R, w, top)
         order = np.argsort(-bound, axis=1, kind="stable")  # per speed, the largest bound first
         out = np.zeros(S)
-        for r in range(self.l.size):
-            i = order[:, r]
+        for rank in range(self.l.size):
+            i = order[:, rank]
             at = np.flatnonzero(SLACK * bound[np.arange(S), i] > out)
             if not at.size:
                 break
@@ -222,6 +252,16 @@ class SweepTruncation:
             b = (weights * np.abs((R @ phi) / Dg)).sum(axis=2) / (1.0 - rho)
         b = np.where((rho < 1.0) & np.isfinite(b), b, np.inf)
         return np.where(valid, b, -np.inf)
+
+
+def _noise_floors(mags: np.ndarray) -> np.ndarray:
+    """Noise floor (Q,) of each term's harmonic magnitudes (Q, 2K+1): the largest of its top
+    quarter of harmonics where that is below RESOLVED of its largest entry, else 0 (a term
+    whose spectrum has not decayed keeps every harmonic above _NEGLIGIBLE)."""
+    K = (mags.shape[1] - 1) // 2
+    tail = np.abs(np.arange(2 * K + 1) - K) >= K - K // 4
+    floor = mags[:, tail].max(axis=1)
+    return np.where(floor <= RESOLVED * mags.max(axis=1), floor, 0.0)
 
 
 def _modal_blocks(mean: list[np.ndarray], Pc: int):
