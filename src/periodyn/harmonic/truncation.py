@@ -36,7 +36,7 @@ import scipy.linalg
 from ..numerics.spectra import min_samples, sample_angles, synthesize
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
-           "SweepTruncation"]
+           "SweepTruncation", "above_noise", "noise_floors"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -145,7 +145,7 @@ class SweepTruncation:
         self.l = np.arange(m + 1, max(m + B, Kf) + 1)  # (L,) the unbalanced harmonics any speed can have
         theta = sample_angles(min_samples(m, B))
         d = np.arange(-B, B + 1) + K
-        self.floors = _noise_floors(self.mags)  # (Q,)
+        self.floors = noise_floors(self.mags)  # (Q,)
         self.samples = [synthesize(X[d], theta) for X in terms]  # each term at the angles, (P, n, n)
         self.synthesis = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))  # (P, 2m+1)
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
@@ -159,18 +159,12 @@ class SweepTruncation:
         """Coefficient band (S,) and the terms the products take (S, Q) at speeds w (S,)
         (elementwise, per speed). The band: the highest harmonic of the bound sum_p w^p
         max|X_p,k| above the larger of _NEGLIGIBLE of its largest and FLOOR times the terms'
-        noise floors sum_p w^p floor_p. A term with a noise floor is taken where a non-mean
-        harmonic rises FLOOR times above it; one without (not decayed, or exactly zero) where
-        one is above _NEGLIGIBLE of the bound's largest."""
-        terms = w[:, None, None] ** self.exponents[:, None] * self.mags[None]  # (S, Q, 2K+1)
-        total = terms.sum(axis=1)
-        largest = _NEGLIGIBLE * total.max(axis=1)
-        cut = np.maximum(largest, FLOOR * (w[:, None] ** self.exponents * self.floors).sum(axis=1))
+        noise floors sum_p w^p floor_p. The terms: :func:`above_noise`."""
+        total = (w[:, None, None] ** self.exponents[:, None] * self.mags[None]).sum(axis=1)  # (S, 2K+1)
+        cut = np.maximum(_NEGLIGIBLE * total.max(axis=1), FLOOR * (w[:, None] ** self.exponents * self.floors).sum(axis=1))
         k = np.abs(np.arange(total.shape[1]) - (total.shape[1] - 1) // 2)
         band = np.minimum(np.where(total > cut[:, None], k, 0).max(axis=1), self.B)
-        above = (self.mags[:, k > 0] > FLOOR * self.floors[:, None]).any(axis=1) & (self.floors > 0)  # (Q,)
-        flat = (self.floors == 0) & (terms[:, :, k > 0] > largest[:, None, None]).any(axis=2)  # (S, Q)
-        return band, above | flat
+        return band, above_noise(self.mags, self.floors, self.exponents, w)
 
     def tops(self, w: np.ndarray) -> np.ndarray:
         """Highest unbalanced harmonic per speed (S,) at speeds w (S,): the band of
@@ -254,7 +248,20 @@ class SweepTruncation:
         return np.where(valid, b, -np.inf)
 
 
-def _noise_floors(mags: np.ndarray) -> np.ndarray:
+def above_noise(mags: np.ndarray, floors: np.ndarray, exponents: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Terms (S, Q) with a non-mean harmonic above noise at speeds w (S,), of harmonic
+    magnitudes mags (Q, 2K+1) with noise floors (Q,) (:func:`noise_floors`) and omega-powers
+    exponents (Q,): a term with a floor where a harmonic rises FLOOR times above it (at
+    every speed), one without (not decayed, or exactly zero) where one is above _NEGLIGIBLE
+    of the largest of the bound sum_p w^p max|X_p,k|."""
+    terms = w[:, None, None] ** exponents[:, None] * mags[None]  # (S, Q, 2K+1)
+    k = np.abs(np.arange(mags.shape[1]) - (mags.shape[1] - 1) // 2)
+    above = (mags[:, k > 0] > FLOOR * floors[:, None]).any(axis=1) & (floors > 0)  # (Q,)
+    largest = _NEGLIGIBLE * terms.sum(axis=1).max(axis=1)
+    return above | (floors == 0) & (terms[:, :, k > 0] > largest[:, None, None]).any(axis=2)
+
+
+def noise_floors(mags: np.ndarray) -> np.ndarray:
     """Noise floor (Q,) of each term's harmonic magnitudes (Q, 2K+1): the largest of its top
     quarter of harmonics where that is below RESOLVED of its largest entry, else 0 (a term
     whose spectrum has not decayed keeps every harmonic above _NEGLIGIBLE)."""
