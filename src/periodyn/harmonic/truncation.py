@@ -17,7 +17,10 @@ A sweep evaluates it by :class:`SweepTruncation`: the unbalanced harmonics R_l o
 speeds by products on P = 2(m + B) + 1 angles (B the model's coefficient band; no product
 harmonic aliases onto l <= m + B), O(P n^2) per speed instead of the O(B (B + m) n^2)
 harmonic convolution and the O(B n^2) evaluation of every coefficient harmonic at omega.
-Of the harmonics l it solves D_l exactly only those that can hold the largest estimate: in
+The coefficients' harmonics carry rounding noise (1e-14 to 3e-13 of a term's largest entry,
+the kinematic Newton tolerance, flat over the harmonics): the band ends where the harmonics
+reach FLOOR times each term's noise floor, and a term whose harmonics are all noise enters
+the products by its mean only (in D_l), not by its noise. Of the harmonics l it solves D_l exactly only those that can hold the largest estimate: in
 the basis Phi of the mean system's undamped modes, D_l = Phi^-T (Dg + E) Phi^-1 with Dg
 diagonal, and with column weights v_i = max_a |Phi_ai| and rho = max_j sum_i v_i |E_ij| /
 (|Dg_i| v_j) < 1,
@@ -124,11 +127,14 @@ class SweepTruncation:
     """The indicator of :func:`balance_truncation` at many speeds of one constant-speed model.
 
     spectra: the model's power spectra (mass (2K+1, n, n), damping (2K+1, n, n, Pc),
-    stiffness (2K+1, n, n, Pk), force (2K+1, n, Pf)); m: harmonics. Per speed, the band and
-    the force's reach come from the bound sum_p w^p max|X_p,k| of each harmonic's largest
-    entry, and the harmonics l = m+1 .. max(m + band, reach) are estimated. The products take
-    every coefficient harmonic up to the highest any term has above _NEGLIGIBLE of its own
-    largest (B, a per-model constant) on P = 2(m + B) + 1 angles. Each speed's value depends
+    stiffness (2K+1, n, n, Pk), force (2K+1, n, Pf)); m: harmonics. Per speed, the band
+    (:meth:`content`: cut at the terms' noise floors) and the force's reach come from the
+    bound sum_p w^p max|X_p,k| of each harmonic's largest entry, and the harmonics
+    l = m+1 .. max(m + band, reach) are estimated, solved where their modal bound can reach
+    the largest (:meth:`bounds`). The products take the terms with harmonics above noise
+    (:func:`above_noise`) with every coefficient harmonic up to the highest any term has
+    above _NEGLIGIBLE of its own largest (B, a per-model constant) on P = 2(m + B) + 1
+    angles. Each speed's value depends
     on its own data only, and every product runs per speed or on blocks of BLOCK speeds,
     never as one matrix product over a varying number of speeds (whose rounding depends on
     it): a speed's value is the same to the bit in any chunk."""
