@@ -29,6 +29,7 @@ from ..numerics.spectra import sample_angles, synthesize
 from ..system import OmegaSplitModel
 from .operator import HarmonicOperator
 from .pattern import from_real_basis, to_real_basis
+from .truncation import above_noise, noise_floors
 
 __all__ = ["ReducedBalance", "RTOL", "ITERATIONS"]
 
@@ -38,8 +39,9 @@ ITERATIONS = 12  # residual evaluations before a speed is handed to the full sol
 
 class ReducedBalance:
     """Per-model data of the reduced HB: the full model's coefficients resampled on
-    P = band + 2m + 1 angles (stacked [M, C_p.., K_p..] per angle, (P, n, (1 + Pc + Pk) n)), the mean
-    modal diagonal and the kept block's HB operator per mode count (built on first use).
+    P = band + 2m + 1 angles ((P, n, n) per term M, C_p, K_p), their mean blocks and the noise
+    floors of their harmonics, the mean modal diagonal and the kept block's HB operator per
+    mode count (built on first use).
 
     model: the OmegaSplitModel; m: harmonics; band: the coefficient band of the full HB
     operator (its harmonics above it are dropped, as the operator does); modes: the model's
@@ -53,11 +55,7 @@ class ReducedBalance:
         K = (Ms.shape[0] - 1) // 2
         d = np.arange(-band, band + 1)
 
-        def sampled(X):  # coefficients at the P angles from harmonics |d| <= band, (P, ...)
-            return synthesize(X[d + K], theta)
-
-        blocks = [sampled(Ms)] + [sampled(Cs[..., p]) for p in range(Cs.shape[-1])] + \
-                 [sampled(Ks[..., p]) for p in range(Ks.shape[-1])]
+        terms = [Ms] + [Cs[..., p] for p in range(Cs.shape[-1])] + [Ks[..., p] for p in range(Ks.shape[-1])]
         self.powers = Pc, Pk = Cs.shape[-1], Ks.shape[-1]
         # per coordinate row, the largest coefficient of the terms of the HB matrix's rows per
         # power of omega they multiply (stiffness; damping times m; mass times m^2), (PW, n)
@@ -67,10 +65,16 @@ class ReducedBalance:
         for p in range(Pc):
             self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
-        self.stacked = np.ascontiguousarray(np.concatenate(blocks, axis=2))  # (P, n, (1 + Pc + Pk) n)
+        self.samples = [synthesize(X[d + K], theta) for X in terms]  # each term at the P angles, (P, n, n)
+        self.means = [X[K].real for X in terms]  # their mean blocks (n, n)
+        self.mags = np.stack([np.abs(X).reshape(X.shape[0], -1).max(axis=1) for X in terms])  # (Q, 2K+1)
+        self.floors = noise_floors(self.mags)
+        self.exponents = np.array([0] + list(range(Pc)) + list(range(Pk)))
+        self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         a = np.arange(-m, m + 1)
         self.synthesis = np.exp(1j * np.outer(theta, a))  # (P, 2m+1): samples of sum_a x_a e^{i a theta}
         self.analysis = np.conj(self.synthesis.T) / P  # (2m+1, P)
+        self.real_synthesis = np.concatenate([self.synthesis.real, -self.synthesis.imag], axis=1)  # Re(E Z), (P, 2(2m+1))
         self.force = np.stack([fs[a + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
         Phi = modes.shapes
         self.mean_diagonals = [np.einsum("ni,nm,mi->i", Phi, X.mean(axis=0), Phi)
@@ -95,18 +99,39 @@ class ReducedBalance:
         """Force harmonics (S, 2m+1, n) at speeds w (S,)."""
         return np.tensordot(w[:, None] ** np.arange(len(self.force)), self.force, 1)
 
-    def residual(self, w: np.ndarray, q: np.ndarray, f: np.ndarray) -> np.ndarray:
-        """f - W(w) q (S, 2m+1, n) of the full HB equations for physical harmonics q (S, 2m+1, n)."""
+    def terms_at(self, w: np.ndarray) -> tuple[np.ndarray, list[int], np.ndarray]:
+        """The terms taken per angle at speeds w (S,) (bool (Q,): harmonics above noise at one
+        of them, :func:`~periodyn.harmonic.truncation.above_noise`), the derivatives (0 q'',
+        1 q', 2 q) the other terms multiply, and per speed the sums of their mean blocks times
+        w^p per derivative, side by side (S, n, G n) (their harmonics are the samples'
+        rounding noise, 1e-14 to 3e-13 of their largest entry)."""
+        used = above_noise(self.mags, self.floors, self.exponents, w).any(axis=0)
+        constant: dict[int, np.ndarray] = {}
+        for t in np.flatnonzero(~used):
+            d = int(self.derivative[t])
+            constant[d] = constant.get(d, 0.0) + w[:, None, None] ** self.exponents[t] * self.means[t]
+        order = sorted(constant)
+        blocks = np.concatenate([constant[d] for d in order], axis=2) if order else np.zeros((w.size, self.n, 0))
+        return used, order, blocks
+
+    def residual(self, w: np.ndarray, q: np.ndarray, f: np.ndarray, terms=None) -> np.ndarray:
+        """f - W(w) q (S, 2m+1, n) of the full HB equations for physical harmonics q (S, 2m+1, n):
+        per angle the samples of the terms taken (``terms``: :meth:`terms_at` of w) times
+        those of q'', w^p q' or w^p q, plus the other terms' mean blocks."""
+        used, order, blocks = self.terms_at(w) if terms is None else terms
         a = np.arange(-self.m, self.m + 1)
-        Pc, Pk = self.powers
-        S = w.size
-        x0 = q
-        x1 = 1j * a[None, :, None] * w[:, None, None] * q  # harmonics of q' (time derivative)
-        x2 = -(a[None, :, None] * w[:, None, None]) ** 2 * q  # of q''
-        parts = [x2] + [x1 * w[:, None, None] ** p for p in range(Pc)] + [x0 * w[:, None, None] ** p for p in range(Pk)]
-        Z = np.concatenate(parts, axis=2)  # (S, 2m+1, (1 + Pc + Pk) n)
-        samples = np.einsum("ja,sac->jcs", self.synthesis, Z, optimize=True).real  # (P, (..) n, S)
-        r = np.matmul(self.stacked, samples)  # (P, n, S)
+        n, S = self.n, w.size
+        jw = 1j * a[None, :, None] * w[:, None, None]
+        Z = np.concatenate([jw * jw * q, jw * q, q], axis=2)  # harmonics of q'', q', q, (S, 2m+1, 3n)
+        y = np.matmul(self.real_synthesis, np.concatenate([Z.real, Z.imag], axis=1))  # their samples, (S, P, 3n)
+        r = np.zeros((self.P, n, S))
+        for t in np.flatnonzero(used):
+            d = self.derivative[t]
+            z = y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
+            r += np.matmul(self.samples[t], np.ascontiguousarray(z.transpose(1, 2, 0)))
+        if order:
+            Y = np.concatenate([y[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, P, G n)
+            r += np.matmul(Y, blocks.transpose(0, 2, 1)).transpose(1, 2, 0)
         return f - np.einsum("aj,jns->san", self.analysis, r, optimize=True)
 
     def diagonal(self, w: np.ndarray) -> np.ndarray:
@@ -130,6 +155,7 @@ class ReducedBalance:
         f = self.forcing(w)
         scale = np.linalg.norm(f.reshape(S, -1), axis=1)
         scale = np.where(scale > 0, scale, 1.0)
+        used, order, blocks = self.terms_at(w)
         x = np.zeros((S, 2 * m + 1, n), dtype=complex)
         q = np.zeros_like(x)
         r = f
@@ -137,14 +163,14 @@ class ReducedBalance:
         steps = np.zeros(S, dtype=int)
         todo = np.arange(S)
         for it in range(1, ITERATIONS + 1):
-            rm = r @ Phi  # modal residual Phi^T r, (s, 2m+1, n)
+            rm = _times_real(r, Phi)  # modal residual Phi^T r, (s, 2m+1, n)
             for j, s in enumerate(todo):
                 b = to_real_basis(rm[j, :, :k].reshape(-1), m, k, halves=1)
                 y = sla.lu_solve(kept[s], b, check_finite=False)
                 x[s, :, :k] += from_real_basis(y[:, None], m, k, halves=1)[:, 0].reshape(2 * m + 1, k)
             x[todo, :, k:] += rm[:, :, k:] / D[todo]
-            q[todo] = x[todo] @ Phi.T
-            r = self.residual(w[todo], q[todo], f[todo])
+            q[todo] = _times_real(x[todo], Phi.T)
+            r = self.residual(w[todo], q[todo], f[todo], (used, order, blocks[todo]))
             rel[todo] = np.linalg.norm(r.reshape(todo.size, -1), axis=1) / scale[todo]
             done = rel[todo] <= RTOL
             steps[todo[done]] = it
@@ -153,3 +179,11 @@ class ReducedBalance:
                 break
         q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
         return q, rel, steps
+
+
+def _times_real(X: np.ndarray, A: np.ndarray) -> np.ndarray:
+    """X @ A (..., k) of complex X (..., n) and real A (n, k) by one real matrix product (of
+    the real and imaginary parts stacked as rows)."""
+    parts = np.concatenate([X.real, X.imag]).reshape(-1, X.shape[-1]) @ A
+    half = parts.shape[0] // 2
+    return (parts[:half] + 1j * parts[half:]).reshape(X.shape[:-1] + A.shape[1:])
