@@ -207,8 +207,6 @@ class SweepTruncation:
         top = self.tops(w)
         R = self.unbalanced(q, w)
         M = self.mean[0]
-        C = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
-        Kw = sum(w[:, None, None] ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
         bound = self.bounds(R, w, top)
         order = np.argsort(-bound, axis=1, kind="stable")  # per speed, the largest bound first
         out = np.zeros(S)
@@ -218,8 +216,11 @@ class SweepTruncation:
             if not at.size:
                 break
             i = i[at]
-            lw = (self.l[i] * w[at])[:, None, None]
-            D = -lw ** 2 * M + 1j * lw * C[at] + Kw[at]
+            wa = w[at][:, None, None]
+            lw = self.l[i][:, None, None] * wa
+            C = sum(wa ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
+            Kw = sum(wa ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
+            D = -lw ** 2 * M + 1j * lw * C + Kw
             try:
                 est = np.abs(np.linalg.solve(D, R[at, i, :, None])[..., 0])
             except np.linalg.LinAlgError:  # one speed's mean system resonates at its harmonic
@@ -235,23 +236,25 @@ class SweepTruncation:
         speeds w (S,) (module docstring): inf where the modal bound does not hold (rho >= 1,
         no modal basis, not finite), -inf for the harmonics l > top (S,) a speed leaves out."""
         S, L = R.shape[:2]
-        valid = self.l[None, :] <= top[:, None]
+        out = np.full((S, L), -np.inf)
+        s, i = np.nonzero(self.l[None, :] <= top[:, None])  # the (speed, harmonic) pairs, (V,) each
         if self.modal is None:
-            return np.where(valid, np.inf, -np.inf)
+            out[s, i] = np.inf
+            return out
         phi, weights, diagonal, off = self.modal
         Pc, Pk = self.powers
-        lw = self.l[None, :] * w[:, None]  # (S, L)
-        wp = w[:, None, None] ** np.arange(max(Pc, Pk))  # (S, 1, P)
-        coef = np.concatenate([-lw[..., None] ** 2, 1j * lw[..., None] * wp[..., :Pc],
-                               np.broadcast_to(wp[..., :Pk], (S, L, Pk)) + 0j], axis=2)  # (S, L, Q): D = sum coef X
+        lw = self.l[i] * w[s]  # (V,)
+        wp = w[s, None] ** np.arange(max(Pc, Pk))  # (V, P)
+        coef = np.concatenate([-lw[:, None] ** 2, 1j * lw[:, None] * wp[:, :Pc], wp[:, :Pk] + 0j], axis=1)  # (V, Q)
+        Rv = R[s, i]
+        proj = np.concatenate([Rv.real, Rv.imag]) @ phi  # Phi^T R by one real product, (2V, n)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            Dg = coef @ diagonal  # (S, L, n)
-            a = weights / np.abs(Dg)
-            coupling = np.matmul(a.reshape(S * L, -1), off).reshape(S, L, coef.shape[2], -1)  # (S, L, Q, n)
-            rho = (np.abs(coef)[..., None] * coupling / weights).sum(axis=2).max(axis=2)
-            b = (weights * np.abs((R @ phi) / Dg)).sum(axis=2) / (1.0 - rho)
-        b = np.where((rho < 1.0) & np.isfinite(b), b, np.inf)
-        return np.where(valid, b, -np.inf)
+            Dg = coef @ diagonal  # (V, n)
+            coupling = ((weights / np.abs(Dg)) @ off).reshape(s.size, coef.shape[1], -1)  # (V, Q, n)
+            rho = (np.abs(coef)[..., None] * coupling / weights).sum(axis=1).max(axis=1, initial=0.0)
+            b = (weights * np.abs((proj[: s.size] + 1j * proj[s.size:]) / Dg)).sum(axis=1) / (1.0 - rho)
+        out[s, i] = np.where((rho < 1.0) & np.isfinite(b), b, np.inf)
+        return out
 
 
 def above_noise(mags: np.ndarray, floors: np.ndarray, exponents: np.ndarray, w: np.ndarray) -> np.ndarray:
