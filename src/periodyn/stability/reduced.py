@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from ..harmonic.truncation import above_noise, noise_floors
 from ..model.reduce import guarded_modes, mean_modes
 from ..numerics.spectra import fourier_coefficients, min_samples, sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
@@ -140,41 +141,51 @@ class ReducedStability:
         self._ladders: dict[int, _Ladder] = {}
         self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
+        self._mags = np.abs(np.concatenate([self.M[..., None], self.C, self.K], axis=-1)).max(axis=(1, 2)).T  # (Q, 2K+1)
+        self._floors, self._exponents = noise_floors(self._mags), np.r_[0, np.arange(self.C.shape[-1]), np.arange(self.K.shape[-1])]
 
     def couplings(self, k: int, m: int) -> tuple[np.ndarray, ...]:
         """The coupling blocks of k kept modes at P = 2K + 2m + 1 angles, with m harmonics
-        (built once per (k, m)): synthesis E (P, 2m+1) of sum_a x_a e^(i a theta), the
-        blocks hl (P, n-k, Q k) and lh (P, k, (n-k) Q) of the Q = 1 + Pc + Pk terms M, C_p, K_p
-        (real; column index q k + c of hl, r Q + q of lh). No product of a coefficient harmonic |d| <= K with a harmonic |b| <= m
-        aliases onto a harmonic |a| <= m on these angles, so the products below are the
-        harmonic convolutions exactly, at O(P (n-k) k) per speed instead of O(m K (n-k) k)."""
+        (built once per (k, m)): synthesis E (P, 2m+1) of sum_a x_a e^(i a theta), per term
+        (M, C_p, K_p) the real blocks hl (P, n-k, k), lh (P, k, n-k) and their means. No product
+        of a coefficient harmonic |d| <= K with a harmonic |b| <= m aliases onto |a| <= m on these
+        angles: the products are the harmonic convolutions, O(P (n-k) k) instead of O(m K (n-k) k)."""
         if (k, m) not in self._couplings:
-            theta = sample_angles(min_samples(m, (self.M.shape[0] - 1) // 2))
+            K0 = (self.M.shape[0] - 1) // 2
+            theta = sample_angles(min_samples(m, K0))
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
             stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)  # (2K+1, n, n, 1 + Pc + Pk)
             l, h = slice(0, k), slice(k, self.n)
-            hl, lh = (synthesize(stack[:, r, c], theta) for r, c in ((h, l), (l, h)))
-            P, Q = hl.shape[0], hl.shape[-1]
-            hl = np.ascontiguousarray(hl.transpose(0, 1, 3, 2)).reshape(P, self.n - k, Q * k)
-            self._couplings[k, m] = (E, hl, np.ascontiguousarray(lh).reshape(P, k, (self.n - k) * Q))
+            hl, lh = (np.moveaxis(synthesize(stack[:, r, c], theta), -1, 0) for r, c in ((h, l), (l, h)))
+            means = [np.moveaxis(stack[K0, r, c].real, -1, 0) for r, c in ((h, l), (l, h))]
+            self._couplings[k, m] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
         return self._couplings[k, m]
 
     def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray):
         """r_h = Q_hl(lambda) x (2m+1, n-k) and s_h = y^H Q_lh(lambda) (2m+1, n-k) for
-        Hill vectors x, y (2m+1, k) with s_b = lambda + i b w (2m+1,)."""
-        E, hl, lh = self.couplings(k, m)
+        Hill vectors x, y (2m+1, k) with s_b = lambda + i b w (2m+1,): per angle the terms
+        with harmonics above noise (:func:`~periodyn.harmonic.truncation.above_noise`), the
+        others by their mean blocks (their harmonics are the samples' rounding noise)."""
+        E, hl, lh, hl_mean, lh_mean = self.couplings(k, m)
         Pc, P = self.C.shape[-1], E.shape[0]
         powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
         weights = np.concatenate([[s * s], np.repeat(s[None], Pc, 0), np.ones((len(powers) - 1 - Pc, s.size))])
         weights = weights * powers[:, None]  # (1 + Pc + Pk, 2m+1): s_b^2 for M, s_b w^p for C_p, w^p for K_p
-        Q, h = len(powers), self.n - k
-        xs = np.ascontiguousarray((E @ (weights[:, :, None] * x[None])).transpose(1, 0, 2)).reshape(P, Q * k)
-        R = np.matmul(hl, xs.view(float).reshape(P, Q * k, 2))  # real and imaginary parts, (P, n-k, 2)
-        r = np.conj(E.T) @ (R[..., 0] + 1j * R[..., 1]) / P
+        used = above_noise(self._mags, self._floors, self._exponents, np.array([w]))[0]
+        r = np.zeros((2 * m + 1, self.n - k), complex)
+        sh = np.zeros_like(r)
         ys = np.ascontiguousarray(np.conj(E) @ np.conj(y))  # sum_a conj(y_a) e^(-i a theta_j), (P, k)
-        T = np.matmul(ys.view(float).reshape(P, k, 2).transpose(0, 2, 1), lh)  # (P, 2, (n-k) Q)
-        U = (E.T @ (T[:, 0] + 1j * T[:, 1])).reshape(2 * m + 1, h, Q)
-        sh = (U * weights.T[:, None, :]).sum(axis=-1) / P
+        ysr = np.ascontiguousarray(ys.view(float).reshape(P, k, 2).transpose(0, 2, 1))  # (P, 2, k)
+        for t in range(len(powers)):
+            if used[t]:
+                xs = np.ascontiguousarray(E @ (weights[t][:, None] * x))  # (P, k)
+                R = np.matmul(hl[t], xs.view(float).reshape(P, k, 2))  # real and imaginary parts, (P, n-k, 2)
+                r += np.conj(E.T) @ (R[..., 0] + 1j * R[..., 1]) / P
+                T = np.matmul(ysr, lh[t])  # (P, 2, n-k)
+                sh += weights[t][:, None] * (E.T @ (T[:, 0] + 1j * T[:, 1])) / P
+            else:
+                r += (weights[t][:, None] * x) @ hl_mean[t].T
+                sh += weights[t][:, None] * (np.conj(y) @ lh_mean[t])
         return r, sh
 
     def hill_terms(self, k: int, m: int) -> np.ndarray:
