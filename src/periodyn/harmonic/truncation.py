@@ -238,7 +238,7 @@ class SweepTruncation:
         S, L = R.shape[:2]
         out = np.full((S, L), -np.inf)
         s, i = np.nonzero(self.l[None, :] <= top[:, None])  # the (speed, harmonic) pairs, (V,) each
-        if self.modal is None:
+        if self.modal is None or not s.size:
             out[s, i] = np.inf
             return out
         phi, weights, diagonal, off = self.modal

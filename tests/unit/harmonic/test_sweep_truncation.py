@@ -14,6 +14,7 @@ from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_c
 from periodyn.harmonic.truncation import BALANCE_TRUNCATION_TOL, SweepTruncation, balance_truncation
 from periodyn.model.linearization import omega_split
 from periodyn.speeds import SpeedSolver
+from periodyn.system import OmegaSplitModel
 
 
 def _reference(model, q, w):
@@ -130,3 +131,14 @@ def test_the_band_is_the_stiffness_harmonics_not_the_noise(elements):
     coarse = SweepTruncation(_rod(8)._power_spectra[:4], 12).content(w)[0]
     assert (coarse - 6 <= band).all() and (band <= coarse).all() and coarse.max() <= 22
     assert (used == [True, False, False, False, False, True]).all()  # M, C_0, C_1, K_0, K_1, K_2
+
+
+def test_constant_coefficients_leave_no_harmonic_out():
+    """With constant coefficients no harmonic is unbalanced: the indicator is 0 (and no
+    modal bound is formed)."""
+    theta = 2 * np.pi * np.arange(8) / 8
+    model = OmegaSplitModel.from_samples(np.ones((8, 1, 1)), [np.full((8, 1, 1), 0.1)], [np.ones((8, 1, 1))],
+                                         [np.cos(theta)[:, None]])
+    w = np.array([0.5, 0.9, 3.0])
+    q = SpeedSolver(model, 2, stability=False)._balance(w)[0]
+    assert np.array_equal(SweepTruncation(model._power_spectra[:4], 2)(q, w), np.zeros(3))
