@@ -214,9 +214,9 @@ class ReducedStability:
 
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
-        h = slice(k, self.n)
-        M, C, K = self._at(w, h, h, mean=True)
-        c, kk, mm = np.diag(C).real, np.diag(K).real, np.diag(M).real
+        K0, h = (self.M.shape[0] - 1) // 2, np.arange(k, self.n)
+        mm, C, K = (X[K0, h, h].real for X in (self.M, self.C, self.K))  # the mean diagonals, (n-k[, P])
+        c, kk = C @ w ** np.arange(C.shape[-1]), K @ w ** np.arange(K.shape[-1])
         disc = np.sqrt((c * c - 4 * mm * kk).astype(complex))
         return np.concatenate([(-c + disc) / (2 * mm), (-c - disc) / (2 * mm)])
 
