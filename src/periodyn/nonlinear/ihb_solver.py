@@ -39,7 +39,7 @@ from .ihb_jacobian import JacobianPattern, block_needs
 from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..stability.methods import flow_choice
-from ..stability.orbit_flow import flow_exponents, stiffness
+from ..stability.orbit_flow import SampledGenerator, flow_exponents
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -210,7 +210,7 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
-        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_samples there
+        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_generator there
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)
@@ -251,10 +251,11 @@ class IHBProblem:
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
-    def state_samples(self, X, omega, params=None) -> np.ndarray:
+    def state_generator(self, X, omega, params=None) -> SampledGenerator:
         """State matrices A (p, 2n, 2n) (1/s) of the perturbation y' = A y, y = (dq, dq'), of
-        the unconstrained orbit X at its sample times: dq'' = M^-1 (df/dq - d(M q'')/dq) dq
-        + M^-1 df/dq' dq'."""
+        the unconstrained orbit X at its sample times, as a SampledGenerator: dq'' = M^-1
+        (df/dq - d(M q'')/dq) dq + M^-1 df/dq' dq'. With a constant unit mass only the
+        entries of the force Jacobians that vary along the orbit are gathered."""
         P = self.system.parameters if params is None else params
         sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
         if last is not None:  # the corrector's last Jacobian was at this orbit
@@ -264,13 +265,21 @@ class IHBProblem:
             M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
-        A = np.zeros((self.p, 2 * n, 2 * n))
-        A[:, range(n), range(n, 2 * n)] = 1.0
-        if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
-            A[:, n:, :n], A[:, n:, n:] = Kf, Cf
-        else:
+        A0 = np.zeros((2 * n, 2 * n))
+        A0[range(n), range(n, 2 * n)] = 1.0
+        if not (M.strides[0] == 0 and np.array_equal(M[0], np.eye(n))):
+            A = np.repeat(A0[None], self.p, axis=0)
             A[:, n:] = np.linalg.solve(M, np.concatenate([Kf, Cf], axis=2))
-        return A
+            return SampledGenerator.from_samples(A)
+        A0[n:, :n], A0[n:, n:] = Kf[0], Cf[0]
+        rows = (n + np.arange(n))[:, None] * 2 * n
+        varying, values = [], []
+        for block, offset in ((Kf, 0), (Cf, n)):  # the lower blocks of A: df/dq, df/dq'
+            flat = block.reshape(self.p, -1)
+            at = np.nonzero((flat != flat[0]).any(axis=0))[0]
+            varying.append((rows + offset + np.arange(n)).ravel()[at])
+            values.append(flat[:, at])
+        return SampledGenerator(A0, np.concatenate(varying), np.concatenate(values, axis=1))
 
     def exponents(self, X, omega, params=None, method="magnus"):
         """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).
@@ -279,8 +288,8 @@ class IHBProblem:
         its samples (:mod:`periodyn.stability.orbit_flow`), and the linearized orbit's
         "auto" where that does not certify."""
         if method == "auto" and not self.m:
-            A = self.state_samples(X, omega, params)
-            use, why = flow_choice(stiffness(A, omega, self.nu))
+            A = self.state_generator(X, omega, params)
+            use, why = flow_choice(A.stiffness(omega, self.nu))
             exps = flow_exponents(A, omega, self.nu, why) if use else None
             if exps is not None:
                 return exps

@@ -168,7 +168,7 @@ def _generator6(A, step, h, G, w):
             a1[i, j] = h * A2[i, j]
             a2[i, j] = _SQRT15_3 * h * (A3[i, j] - A1[i, j])
             a3[i, j] = (10.0 / 3.0) * h * (A3[i, j] - 2.0 * A2[i, j] + A1[i, j])
-    _commutator(a1, a2, C, tmp)  # C1
+    _commutator_sparse(a1, a2, C, tmp)  # C1 (a2 is zero where A does not vary over the step)
     for i in range(d):
         for j in range(d):
             X[i, j] = 2.0 * a3[i, j] + C[i, j]
@@ -215,6 +215,31 @@ def _commutator(X, Y, out, tmp):
     _matmul(X, Y, out)
     _matmul(Y, X, tmp)
     out -= tmp
+
+
+@njit(cache=True)
+def _commutator_sparse(X, S, out, tmp):
+    """out = X S - S X, by the nonzero entries of S when they are fewer than an eighth of
+    them (an orbit's generator varies in few entries, and S is a difference of its
+    values), else by two products; tmp: scratch."""
+    d = X.shape[0]
+    nonzero = 0
+    for i in range(d):
+        for k in range(d):
+            if S[i, k] != 0.0:
+                nonzero += 1
+    if 8 * nonzero > d * d:
+        _commutator(X, S, out, tmp)
+        return
+    out[:, :] = 0.0
+    for i in range(d):
+        for k in range(d):
+            v = S[i, k]
+            if v != 0.0:
+                for r in range(d):  # (X S)[:, k] += X[:, i] v
+                    out[r, k] += X[r, i] * v
+                for c in range(d):  # (S X)[i, :] += v X[k, :]
+                    out[i, c] -= v * X[k, c]
 
 
 @njit(cache=True)
