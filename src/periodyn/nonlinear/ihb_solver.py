@@ -253,9 +253,8 @@ class IHBProblem:
 
     def state_generator(self, X, omega, params=None) -> SampledGenerator:
         """State matrices A (p, 2n, 2n) (1/s) of the perturbation y' = A y, y = (dq, dq'), of
-        the unconstrained orbit X at its sample times, as a SampledGenerator: dq'' = M^-1
-        (df/dq - d(M q'')/dq) dq + M^-1 df/dq' dq'. With a constant unit mass only the
-        entries of the force Jacobians that vary along the orbit are gathered."""
+        the unconstrained orbit X at its sample times, as a SampledGenerator (the entries that
+        vary along the orbit): dq'' = M^-1 (df/dq - d(M q'')/dq) dq + M^-1 df/dq' dq'."""
         P = self.system.parameters if params is None else params
         sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
         if last is not None:  # the corrector's last Jacobian was at this orbit
@@ -265,21 +264,18 @@ class IHBProblem:
             M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
+        J = np.concatenate([Kf, Cf], axis=2)  # (p, n, 2n): the lower block rows of A before M^-1
+        if M.strides[0] == 0:  # a constant mass: one factorization for every sample
+            if not np.array_equal(M[0], np.eye(n)):
+                J = np.linalg.solve(M[0], J.transpose(1, 0, 2).reshape(n, -1)).reshape(n, self.p, 2 * n).transpose(1, 0, 2)
+        else:
+            J = np.linalg.solve(M, J)
+        flat = J.reshape(self.p, -1)
+        at = np.nonzero((flat != flat[0]).any(axis=0))[0]
         A0 = np.zeros((2 * n, 2 * n))
         A0[range(n), range(n, 2 * n)] = 1.0
-        if not (M.strides[0] == 0 and np.array_equal(M[0], np.eye(n))):
-            A = np.repeat(A0[None], self.p, axis=0)
-            A[:, n:] = np.linalg.solve(M, np.concatenate([Kf, Cf], axis=2))
-            return SampledGenerator.from_samples(A)
-        A0[n:, :n], A0[n:, n:] = Kf[0], Cf[0]
-        rows = (n + np.arange(n))[:, None] * 2 * n
-        varying, values = [], []
-        for block, offset in ((Kf, 0), (Cf, n)):  # the lower blocks of A: df/dq, df/dq'
-            flat = block.reshape(self.p, -1)
-            at = np.nonzero((flat != flat[0]).any(axis=0))[0]
-            varying.append((rows + offset + np.arange(n)).ravel()[at])
-            values.append(flat[:, at])
-        return SampledGenerator(A0, np.concatenate(varying), np.concatenate(values, axis=1))
+        A0[n:] = J[0]
+        return SampledGenerator(A0, 2 * n * n + at, flat[:, at])
 
     def exponents(self, X, omega, params=None, method="magnus"):
         """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).

@@ -17,6 +17,7 @@ ladder. For a one-degree-of-freedom orbit the analysis is a few 2 x 2 products p
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -119,8 +120,9 @@ def _eigvals(phi: np.ndarray) -> np.ndarray:
     the other from the determinant: no cancellation)."""
     if phi.shape[0] != 2:
         return sla.eigvals(phi, overwrite_a=True, check_finite=False)
-    half, det = 0.5 * (phi[0, 0] + phi[1, 1]), phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
-    root = np.sqrt(complex(half * half - det))
+    (a, b), (c, e) = phi.tolist()
+    half, det = 0.5 * (a + e), a * e - b * c
+    root = cmath.sqrt(half * half - det)
     big = half + root if half >= 0 else half - root
     return np.array([big, det / big if big != 0 else 0.0], dtype=complex)
 
