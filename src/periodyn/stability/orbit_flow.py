@@ -5,7 +5,8 @@ period T = 2 pi / Om) is known at the p equidistant angles where harmonic balanc
 samples it. Its trigonometric interpolant (harmonics up to (p - 1) // 2, the ones the
 samples resolve) is taken at the Gauss angles of N equal steps through a fixed (3N, p)
 matrix, and the 6th-order Magnus kernel
-(:func:`periodyn.kernels.solvers.floquet.magnus6_product`) gives the monodromy matrix.
+(:func:`periodyn.kernels.solvers.floquet.sampled_magnus6`, on the entries that vary along the orbit)
+gives the monodromy matrix.
 Step doubling N = START, 2 START, ... certifies it as the stability method "auto" does
 (:class:`periodyn.stability.magnus.MagnusLadder`, whose error test this is: the change
 of log max|mu| and of the sorted moduli between N / 2 and N steps, at least ERROR_FLOOR,
@@ -25,7 +26,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg as sla
 
-from ..kernels.solvers.floquet import magnus6_product
+from ..kernels.solvers.floquet import sampled_magnus6
 from .floquet import STABILITY_TOL, FloquetExponents
 from .magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
 
@@ -103,11 +104,9 @@ class SampledGenerator:
         """Transition matrix (d, d) over ``period`` (s), the span of the samples, with
         ``steps`` order-6 Magnus steps of their trigonometric interpolant (the constant
         entries interpolate to their value)."""
-        d, p = self.constant.shape[0], self.values.shape[0]
-        At = np.repeat(self.constant.reshape(1, -1), 3 * steps, axis=0)
-        At[:, self.varying] = interpolation_matrix(p, steps) @ self.values
-        phi = np.empty((d, d))
-        magnus6_product(At.reshape(-1, d, d), period / steps, phi)
+        phi = np.empty(self.constant.shape)
+        sampled_magnus6(self.constant, self.varying, self.values, interpolation_matrix(self.values.shape[0], steps),
+                        period / steps, phi)
         return phi
 
 
