@@ -225,10 +225,10 @@ class IHBProblem:
         Om, p, n, m, L = omega / self.nu, self.p, self.n, self.m, self.L
         T = (Kt.reshape(p, n * n, 1) * self._E[:, None] + Om * Ct.reshape(p, n * n, 1) * self._ED[:, None]
              + Om ** 2 * np.asarray(M).reshape(p, n * n, 1) * self._EDD[:, None])
-        Jqq = np.tensordot(self._Pr, T, axes=(1, 0)).reshape(L, n, n, L).transpose(1, 0, 2, 3).reshape(n * L, n * L)
+        Jqq = (self._Pr @ T.reshape(p, -1)).reshape(L, n, n, L).transpose(1, 0, 2, 3).reshape(n * L, n * L)
         if not m:
             return Jqq
-        G = np.tensordot(self._Pr, Pq.reshape(p, m * n, 1) * self._E[:, None], axes=(1, 0))
+        G = self._Pr @ (Pq.reshape(p, m * n, 1) * self._E[:, None]).reshape(p, -1)
         G = G.reshape(L, m, n, L).transpose(1, 0, 2, 3).reshape(m * L, n * L)  # rows of Phi: (c, k), (j, l)
         Jp = np.asarray(G.reshape(m, L, n, L).transpose(2, 1, 0, 3).reshape(n * L, m * L))  # (j, k), (c, l)
         return np.block([[Jqq, Jp], [G, np.zeros((m * L, m * L))]])
