@@ -39,7 +39,7 @@ from .ihb_jacobian import JacobianPattern, block_needs
 from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..stability.methods import flow_choice
-from ..stability.orbit_flow import flow_exponents, stiffness
+from ..stability.orbit_flow import SampledGenerator, flow_exponents
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -210,7 +210,7 @@ class IHBProblem:
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
-        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_samples there
+        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_generator there
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)
@@ -225,10 +225,10 @@ class IHBProblem:
         Om, p, n, m, L = omega / self.nu, self.p, self.n, self.m, self.L
         T = (Kt.reshape(p, n * n, 1) * self._E[:, None] + Om * Ct.reshape(p, n * n, 1) * self._ED[:, None]
              + Om ** 2 * np.asarray(M).reshape(p, n * n, 1) * self._EDD[:, None])
-        Jqq = np.tensordot(self._Pr, T, axes=(1, 0)).reshape(L, n, n, L).transpose(1, 0, 2, 3).reshape(n * L, n * L)
+        Jqq = (self._Pr @ T.reshape(p, -1)).reshape(L, n, n, L).transpose(1, 0, 2, 3).reshape(n * L, n * L)
         if not m:
             return Jqq
-        G = np.tensordot(self._Pr, Pq.reshape(p, m * n, 1) * self._E[:, None], axes=(1, 0))
+        G = self._Pr @ (Pq.reshape(p, m * n, 1) * self._E[:, None]).reshape(p, -1)
         G = G.reshape(L, m, n, L).transpose(1, 0, 2, 3).reshape(m * L, n * L)  # rows of Phi: (c, k), (j, l)
         Jp = np.asarray(G.reshape(m, L, n, L).transpose(2, 1, 0, 3).reshape(n * L, m * L))  # (j, k), (c, l)
         return np.block([[Jqq, Jp], [G, np.zeros((m * L, m * L))]])
@@ -251,10 +251,10 @@ class IHBProblem:
         t, q, qd, qdd, lam = self.time_samples(X, omega)
         return linearize_orbit(self.system, t, q, qd, qdd, lam, omega, params, 2 * np.pi * self.nu / omega)
 
-    def state_samples(self, X, omega, params=None) -> np.ndarray:
+    def state_generator(self, X, omega, params=None) -> SampledGenerator:
         """State matrices A (p, 2n, 2n) (1/s) of the perturbation y' = A y, y = (dq, dq'), of
-        the unconstrained orbit X at its sample times: dq'' = M^-1 (df/dq - d(M q'')/dq) dq
-        + M^-1 df/dq' dq'."""
+        the unconstrained orbit X at its sample times, as a SampledGenerator (the entries that
+        vary along the orbit): dq'' = M^-1 (df/dq - d(M q'')/dq) dq + M^-1 df/dq' dq'."""
         P = self.system.parameters if params is None else params
         sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
         if last is not None:  # the corrector's last Jacobian was at this orbit
@@ -264,13 +264,18 @@ class IHBProblem:
             M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
-        A = np.zeros((self.p, 2 * n, 2 * n))
-        A[:, range(n), range(n, 2 * n)] = 1.0
-        if M.strides[0] == 0 and np.array_equal(M[0], np.eye(n)):  # a constant unit mass
-            A[:, n:, :n], A[:, n:, n:] = Kf, Cf
+        J = np.concatenate([Kf, Cf], axis=2)  # (p, n, 2n): the lower block rows of A before M^-1
+        if M.strides[0] == 0:  # a constant mass: one factorization for every sample
+            if not np.array_equal(M[0], np.eye(n)):
+                J = np.linalg.solve(M[0], J.transpose(1, 0, 2).reshape(n, -1)).reshape(n, self.p, 2 * n).transpose(1, 0, 2)
         else:
-            A[:, n:] = np.linalg.solve(M, np.concatenate([Kf, Cf], axis=2))
-        return A
+            J = np.linalg.solve(M, J)
+        flat = J.reshape(self.p, -1)
+        at = np.nonzero((flat != flat[0]).any(axis=0))[0]
+        A0 = np.zeros((2 * n, 2 * n))
+        A0[range(n), range(n, 2 * n)] = 1.0
+        A0[n:] = J[0]
+        return SampledGenerator(A0, 2 * n * n + at, flat[:, at])
 
     def exponents(self, X, omega, params=None, method="magnus"):
         """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).
@@ -279,8 +284,8 @@ class IHBProblem:
         its samples (:mod:`periodyn.stability.orbit_flow`), and the linearized orbit's
         "auto" where that does not certify."""
         if method == "auto" and not self.m:
-            A = self.state_samples(X, omega, params)
-            use, why = flow_choice(stiffness(A, omega, self.nu))
+            A = self.state_generator(X, omega, params)
+            use, why = flow_choice(A.stiffness(omega, self.nu))
             exps = flow_exponents(A, omega, self.nu, why) if use else None
             if exps is not None:
                 return exps

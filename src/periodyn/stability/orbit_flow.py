@@ -5,7 +5,8 @@ period T = 2 pi / Om) is known at the p equidistant angles where harmonic balanc
 samples it. Its trigonometric interpolant (harmonics up to (p - 1) // 2, the ones the
 samples resolve) is taken at the Gauss angles of N equal steps through a fixed (3N, p)
 matrix, and the 6th-order Magnus kernel
-(:func:`periodyn.kernels.solvers.floquet.magnus6_product`) gives the monodromy matrix.
+(:func:`periodyn.kernels.solvers.floquet.sampled_magnus6`, on the entries that vary along the orbit)
+gives the monodromy matrix.
 Step doubling N = START, 2 START, ... certifies it as the stability method "auto" does
 (:class:`periodyn.stability.magnus.MagnusLadder`, whose error test this is: the change
 of log max|mu| and of the sorted moduli between N / 2 and N steps, at least ERROR_FLOOR,
@@ -17,17 +18,19 @@ ladder. For a one-degree-of-freedom orbit the analysis is a few 2 x 2 products p
 
 from __future__ import annotations
 
+import cmath
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
 
-from ..kernels.solvers.floquet import magnus6_product
+from ..kernels.solvers.floquet import sampled_magnus6
 from .floquet import STABILITY_TOL, FloquetExponents
 from .magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
 
-__all__ = ["flow_exponents", "half_period", "stiffness", "interpolation_matrix", "START", "LARGEST"]
+__all__ = ["SampledGenerator", "flow_exponents", "interpolation_matrix", "START", "LARGEST"]
 
 START, LARGEST = MagnusLadder.START[6], 1024  # steps of the first compared rung (against START / 2), most steps
 
@@ -42,30 +45,73 @@ def interpolation_matrix(p: int, steps: int) -> np.ndarray:
     return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
 
 
-def _monodromy(A: np.ndarray, varying: np.ndarray, steps: int, period: float) -> np.ndarray:
-    """Monodromy matrix over ``period`` (s) with ``steps`` order-6 Magnus steps from samples
-    A (p, d, d); only the entries ``varying`` (flat indices) differ between samples (the
-    interpolant of the others is their constant value)."""
-    p, d = A.shape[:2]
-    flat = A.reshape(p, -1)
-    At = np.repeat(flat[:1], 3 * steps, axis=0)
-    At[:, varying] = interpolation_matrix(p, steps) @ flat[:, varying]
-    phi = np.empty((d, d))
-    magnus6_product(At.reshape(-1, d, d), period / steps, phi)
-    return phi
+@dataclass(frozen=True)
+class SampledGenerator:
+    """Samples A_j (p, d, d) (1/s) of the generator of ``y' = A(t) y`` at p equidistant
+    times over one period, kept as the first sample and the entries that vary: A_j equals
+    ``constant`` (d, d) with its flat entries ``varying`` (v,) replaced by ``values[j]``
+    (p, v). An orbit's perturbation changes few entries along it (a cubic chain's 80 x 80
+    generator: 40 of 6,400), and every step below works on those alone."""
+
+    constant: np.ndarray
+    varying: np.ndarray
+    values: np.ndarray
+
+    @classmethod
+    def from_samples(cls, A: np.ndarray) -> "SampledGenerator":
+        """From full samples A (p, d, d)."""
+        A = np.asarray(A, dtype=float)
+        flat = A.reshape(A.shape[0], -1)
+        varying = np.nonzero((flat != flat[0]).any(axis=0))[0]
+        return cls(A[0].copy(), varying, flat[:, varying])
+
+    @property
+    def samples(self) -> np.ndarray:
+        """The full samples A (p, d, d)."""
+        d = self.constant.shape[0]
+        flat = np.repeat(self.constant.reshape(1, -1), self.values.shape[0], axis=0)
+        flat[:, self.varying] = self.values
+        return flat.reshape(-1, d, d)
+
+    def stiffness(self, omega: float, subharmonic: int = 1) -> float:
+        """max_j ||A_j||_1 T: the size of the generator over one orbit period T = 2 pi
+        subharmonic / omega (Magnus needs steps in proportion to it; the ladder of "auto"
+        balances stiff systems first)."""
+        d = self.constant.shape[0]
+        columns = np.abs(self.constant).sum(axis=0)  # (d,) of the first sample
+        change = np.abs(self.values) - np.abs(self.constant.ravel()[self.varying])  # (p, v)
+        to_column = np.zeros((self.varying.size, d))
+        to_column[np.arange(self.varying.size), self.varying % d] = 1.0
+        sums = columns + change @ to_column  # (p, d) column sums of every sample
+        return float(sums.max()) * 2 * np.pi * subharmonic / float(omega)
+
+    def half_period(self) -> bool:
+        """Whether the samples repeat after half the period (p even, to 1e-12 of their
+        largest entry): then the monodromy is Phi(T/2)^2."""
+        p, V = self.values.shape[0], self.values
+        if p % 2:
+            return False
+        largest = max(float(np.abs(self.constant).max(initial=0.0)), float(np.abs(V).max(initial=0.0)))
+        return bool(np.abs(V[p // 2:] - V[:p // 2]).max(initial=0.0) <= 1e-12 * largest)
+
+    def first_half(self) -> "SampledGenerator":
+        """The samples of the first half period (p even), with the entries varying there."""
+        V = self.values[: self.values.shape[0] // 2]
+        keep = (V != V[0]).any(axis=0)
+        return SampledGenerator(self.constant, self.varying[keep], V[:, keep])
+
+    def monodromy(self, steps: int, period: float) -> np.ndarray:
+        """Transition matrix (d, d) over ``period`` (s), the span of the samples, with
+        ``steps`` order-6 Magnus steps of their trigonometric interpolant (the constant
+        entries interpolate to their value)."""
+        phi = np.empty(self.constant.shape)
+        sampled_magnus6(self.constant, self.varying, self.values, interpolation_matrix(self.values.shape[0], steps),
+                        period / steps, phi)
+        return phi
 
 
-def half_period(A: np.ndarray) -> bool:
-    """Whether samples A (p, d, d) over one period repeat after half of it (p even, to
-    1e-12 of their largest entry): then the monodromy is Phi(T/2)^2."""
-    p = A.shape[0]
-    return p % 2 == 0 and bool(np.max(np.abs(A[p // 2:] - A[:p // 2])) <= 1e-12 * np.max(np.abs(A)))
-
-
-def stiffness(A: np.ndarray, omega: float, subharmonic: int = 1) -> float:
-    """max_j ||A_j||_1 T: the size of the generator over one orbit period (Magnus needs
-    steps in proportion to it; the ladder of "auto" balances stiff systems first)."""
-    return float(np.abs(A).sum(axis=1).max()) * 2 * np.pi * subharmonic / float(omega)
+def _generator(A) -> SampledGenerator:
+    return A if isinstance(A, SampledGenerator) else SampledGenerator.from_samples(A)
 
 
 def _eigvals(phi: np.ndarray) -> np.ndarray:
@@ -73,28 +119,29 @@ def _eigvals(phi: np.ndarray) -> np.ndarray:
     the other from the determinant: no cancellation)."""
     if phi.shape[0] != 2:
         return sla.eigvals(phi, overwrite_a=True, check_finite=False)
-    half, det = 0.5 * (phi[0, 0] + phi[1, 1]), phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
-    root = np.sqrt(complex(half * half - det))
+    (a, b), (c, e) = phi.tolist()
+    half, det = 0.5 * (a + e), a * e - b * c
+    root = cmath.sqrt(half * half - det)
     big = half + root if half >= 0 else half - root
     return np.array([big, det / big if big != 0 else 0.0], dtype=complex)
 
 
-def flow_exponents(A: np.ndarray, omega: float, subharmonic: int = 1, reason: str = "") -> FloquetExponents | None:
-    """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s) at
+def flow_exponents(A, omega: float, subharmonic: int = 1, reason: str = "") -> FloquetExponents | None:
+    """Exponents (d, rad/s) of ``y' = A(t) y`` from its samples A (p, d, d) (1/s, or a
+    :class:`SampledGenerator`) at
     t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
     rad/s), certified by step doubling (module docstring); None when LARGEST steps do not
     certify them (or the monodromy is not finite). Samples that repeat after half a period
     (:func:`half_period`) are integrated over that half only. reason: why this method (kept,
     followed by the steps and the error estimate, on the result)."""
     period = 2 * np.pi * subharmonic / float(omega)
-    half = half_period(A)
-    span = A[:A.shape[0] // 2] if half else A
-    flat = span.reshape(span.shape[0], -1)
-    varying = np.nonzero((flat != flat[0]).any(axis=0))[0]
+    gen = _generator(A)
+    half = gen.half_period()
+    span = gen.first_half() if half else gen
     G0 = mod0 = None
     steps = START // 2
     while steps <= LARGEST:
-        phi = _monodromy(span, varying, steps, period / 2 if half else period)
+        phi = span.monodromy(steps, period / 2 if half else period)
         if not math.isfinite(phi.sum()):
             return None
         mu = _eigvals(phi) ** 2 if half else _eigvals(phi)  # eig(Phi(T/2)^2) = eig(Phi(T/2))^2

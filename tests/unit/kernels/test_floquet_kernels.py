@@ -8,7 +8,7 @@ import periodyn
 from periodyn.examples.chain import parametric_chain
 from periodyn.harmonic import HarmonicOperator
 from periodyn.stability.hill import _dense_eigs, select_representatives
-from periodyn.kernels.solvers.floquet import _expm, magnus6_product, magnus_monodromies, magnus_product
+from periodyn.kernels.solvers.floquet import _commutator_sparse, _expm, magnus6_product, magnus_monodromies, magnus_product
 from periodyn.stability.magnus import gauss_angles, magnus_terms, magnus_transition
 
 RNG = np.random.default_rng(11)
@@ -113,6 +113,34 @@ def test_magnus_products_match_twins_and_batch_matches_single(product, twin, ste
         product(A, h, single)
         np.testing.assert_array_equal(single, phi_batch)
         np.testing.assert_allclose(single, twin(A, h), atol=1e-11 * np.abs(single).max())
+
+
+@pytest.mark.parametrize("nonzero", [0, 1, 40, 800, 6400])
+def test_commutator_by_nonzero_entries_matches_the_products(nonzero):
+    """X S - S X for S with few nonzero entries (by its entries) and many (by two products)."""
+    d = 80
+    X, S = RNG.standard_normal((d, d)), np.zeros((d, d))
+    S.ravel()[RNG.choice(d * d, nonzero, replace=False)] = RNG.standard_normal(nonzero)
+    out, tmp = np.empty((d, d)), np.empty((d, d))
+    _commutator_sparse(X, S, out, tmp)
+    np.testing.assert_allclose(out, X @ S - S @ X, rtol=0, atol=1e-13 * max(1.0, np.abs(X @ S).max()))
+
+
+def test_magnus6_of_a_generator_varying_in_few_entries_matches_twin():
+    """An 80 x 80 chain-like generator [[0, I], [-K(t), -C]] whose stiffness varies on its
+    diagonal only (the step differences then take the commutator's entry path)."""
+    n, steps = 40, 6
+    K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    theta = gauss_angles(steps, points=3)
+    A = np.zeros((3 * steps, 2 * n, 2 * n))
+    A[:, :n, n:] = np.eye(n)
+    A[:, n:, n:] = -0.05 * np.eye(n)
+    A[:, n:, :n] = -K
+    A[:, np.arange(n, 2 * n), np.arange(n)] -= 0.3 * np.cos(theta)[:, None] ** 2 * np.linspace(0.5, 1.5, n)
+    h = np.pi / steps
+    phi = np.empty((2 * n, 2 * n))
+    magnus6_product(A, h, phi)
+    np.testing.assert_allclose(phi, magnus6_twin(A, h), atol=1e-11 * np.abs(phi).max())
 
 
 def test_unbalanced_transition_is_similar_to_the_balanced_one():

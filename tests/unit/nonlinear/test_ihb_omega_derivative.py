@@ -42,7 +42,7 @@ def test_omega_derivative_of_a_constrained_dae():
     assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-9 * np.abs(ref).max())
 
 
-def test_state_samples_with_a_non_unit_mass():
+def test_state_generator_with_a_non_unit_mass():
     """m = 2: the flow of "auto" agrees with DOP853 on the linearized orbit."""
     s = duffing(2.0)
     sol = periodyn.ihb(s, 0.7, 7, stability=None)
@@ -73,12 +73,33 @@ def test_chain_rule_after_the_jacobian_matches_the_difference(nu):
     assert np.allclose(prob.omega_derivative(X, w, h), ref, rtol=1e-7, atol=1e-8 * np.abs(ref).max())
 
 
-def test_state_samples_reuse_the_last_jacobian_samples():
+def test_state_generator_reuses_the_last_jacobian_samples():
     s = duffing(2.0)
     prob = IHBProblem(s, 5)
     X = 0.3 * np.random.default_rng(11).normal(size=prob.size)
-    fresh = prob.state_samples(X, 0.9)
+    fresh = prob.state_generator(X, 0.9).samples
     prob.residual_jacobian(X, 0.9)
     assert prob._at_last(X, 0.9, s.parameters) is not None
-    assert np.array_equal(prob.state_samples(X, 0.9), fresh)
+    assert np.array_equal(prob.state_generator(X, 0.9).samples, fresh)
     assert prob._at_last(X, 0.91, s.parameters) is None
+
+
+def test_unit_mass_generator_gathers_the_varying_entries():
+    """A two-mass cubic chain with unit mass: the generator built from the varying entries of
+    the force Jacobians has the full state matrices [[0, I], [df/dq, df/dq']] as samples."""
+    K, C = np.array([[2.0, -1.0], [-1.0, 2.0]]), np.array([[0.06, -0.01], [-0.01, 0.05]])
+
+    def force(q, qd, t, w):
+        return -qd @ C.T - q @ K.T - 0.1 * q ** 3 + 0.2 * np.cos(w * t)[:, None] * np.array([1.0, 0.0])
+
+    s = periodyn.DAE(np.eye(2), force, vectorized=True)
+    prob = IHBProblem(s, 5)
+    X = prob.from_solution(periodyn.ihb(s, 1.1, 5, stability=None))
+    gen = prob.state_generator(X, 1.1)
+    t, q, qd, _, _ = prob.time_samples(X, 1.1)
+    Kf, Cf = s.force_jacobians(q, qd, t, 1.1, s.parameters)
+    full = np.zeros((prob.p, 4, 4))
+    full[:, [0, 1], [2, 3]] = 1.0
+    full[:, 2:, :2], full[:, 2:, 2:] = Kf, Cf
+    assert np.array_equal(gen.samples, full)
+    assert sorted(gen.varying) == [8, 13]  # the diagonal of df/dq: the cubic springs

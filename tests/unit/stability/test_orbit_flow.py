@@ -8,7 +8,7 @@ from scipy.integrate import solve_ivp
 import periodyn
 from periodyn.nonlinear.ihb_solver import IHBProblem, ihb
 from periodyn.stability.methods import flow_choice
-from periodyn.stability.orbit_flow import flow_exponents, half_period, interpolation_matrix, stiffness
+from periodyn.stability.orbit_flow import SampledGenerator, flow_exponents, interpolation_matrix
 
 
 def mathieu(a, b, c, k):
@@ -52,7 +52,7 @@ def test_half_period_detected_and_same_result():
     """cos(2t) repeats after half a period, cos(t) does not; the half-period route (Phi(T/2)^2)
     agrees with the reference."""
     S2, S1 = samples(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi, 32), samples(mathieu(0.6, 0.3, 0.02, 1), 2 * np.pi, 32)
-    assert half_period(S2) and not half_period(S1)
+    assert SampledGenerator.from_samples(S2).half_period() and not SampledGenerator.from_samples(S1).half_period()
     assert "half period" in flow_exponents(S2, 1.0).reason
     ref = np.sort(np.abs(reference_multipliers(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi)))
     assert np.allclose(np.sort(np.abs(flow_exponents(S2, 1.0).multipliers)), ref, rtol=1e-7)
@@ -68,8 +68,43 @@ def test_interpolation_is_exact_for_resolved_harmonics():
 
 def test_stiff_orbit_goes_to_the_ladder():
     A = samples(mathieu(1e6, 0.3, 0.04, 1), 2 * np.pi, 16)
-    assert not flow_choice(stiffness(A, 1.0))[0]
-    assert flow_choice(stiffness(samples(mathieu(1.0, 0.3, 0.04, 1), 2 * np.pi, 16), 1.0))[0]
+    assert not flow_choice(SampledGenerator.from_samples(A).stiffness(1.0))[0]
+    assert flow_choice(SampledGenerator.from_samples(samples(mathieu(1.0, 0.3, 0.04, 1), 2 * np.pi, 16)).stiffness(1.0))[0]
+
+
+def sparse_samples(p=12, d=6, seed=3):
+    """Samples (p, d, d) of which a few entries vary, the others constant and nonzero."""
+    rng = np.random.default_rng(seed)
+    A = np.repeat(rng.normal(size=(1, d, d)), p, axis=0)
+    for i, j in [(3, 0), (4, 1), (5, 5), (0, 4)]:
+        A[:, i, j] += rng.normal(size=p) * 10.0
+    return A
+
+
+def test_sampled_generator_keeps_only_the_varying_entries():
+    A = sparse_samples()
+    gen = SampledGenerator.from_samples(A)
+    assert gen.varying.size == 4 and np.array_equal(gen.samples, A)
+    T = 2 * np.pi / 1.7 * 2
+    assert gen.stiffness(1.7, 2) == pytest.approx(np.abs(A).sum(axis=1).max() * T, rel=1e-14)
+    half = np.concatenate([A[:6], A[:6]])
+    half[:6, 2, 2] = 5.0  # constant over the first half only
+    gh = SampledGenerator.from_samples(half)
+    assert not gh.half_period()
+    first = gh.first_half()
+    assert np.array_equal(first.samples, half[:6]) and 2 * 6 + 2 not in first.varying
+
+
+def test_sparse_monodromy_matches_the_full_samples():
+    """The monodromy from the varying entries equals Magnus on the full interpolated samples."""
+    from periodyn.kernels.solvers.floquet import magnus6_product
+    A = 0.1 * sparse_samples()
+    gen = SampledGenerator.from_samples(A)
+    steps, p, d = 8, A.shape[0], A.shape[1]
+    full = np.einsum("gp,pij->gij", interpolation_matrix(p, steps), A)
+    ref = np.empty((d, d))
+    magnus6_product(np.ascontiguousarray(full), 1.0 / steps, ref)
+    assert np.allclose(gen.monodromy(steps, 1.0), ref, rtol=1e-13, atol=1e-13 * np.abs(ref).max())
 
 
 def duffing():
