@@ -118,20 +118,90 @@ def _step(i: int) -> float:
     return time.perf_counter() - began
 
 
+#: the kernels a compile-ahead process compiles for an element model, before the speed
+#: solver, as (module under periodyn.kernels, function, arguments: "arrays" the model's
+#: packed arrays, a number the dimensions of a C-contiguous float64 array). A first sweep
+#: compiles the deformation families first (the constraint equations, about a third of an
+#: element model's compile), then the per-sample kernels, which also need the element
+#: arrays (the inertia families): those the ahead process compiles meanwhile, and the
+#: sweep's process loads them. Measured on the Cardan shaft (``benchmarks/bench_cold_start.py``).
+_MODEL_KERNELS = (("mechanism.assembly", "element_arrays", ("arrays", 1, 1, 1, 2, 3, 4, 3, 3, 3, 1)),)
+#: seconds a compile-ahead process waits, once started, for the arrays type of the model
+_MODEL_WAIT = 1.0
+
+
+def _signatures(arrays_type, kernels) -> list:
+    """[(dispatcher, signature)] of ``kernels`` (see :data:`_MODEL_KERNELS`) for an element
+    model whose packed arrays have the Numba type ``arrays_type``."""
+    from importlib import import_module
+
+    from numba.core import types
+
+    def arg(spec):
+        return arrays_type if spec == "arrays" else types.Array(types.float64, spec, "C")
+
+    return [(getattr(import_module(f"periodyn.kernels.{module}"), name), tuple(arg(a) for a in spec))
+            for module, name, spec in kernels]
+
+
+def _compile_model(arrays_type) -> None:
+    """Compile (or load from the cache) :data:`_MODEL_KERNELS` for the arrays type, in order."""
+    for dispatcher, signature in _signatures(arrays_type, _MODEL_KERNELS):
+        dispatcher.compile(signature)
+
+
+def _ahead(conn) -> None:
+    """The compile-ahead process: the element arrays of the element model whose arrays type
+    arrives on ``conn`` within :data:`_MODEL_WAIT` s (none for a model without elements),
+    then the speed solver."""
+    import numba  # noqa: F401  (imported before the wait: the type unpickles to Numba types)
+
+    if conn.poll(_MODEL_WAIT):
+        _compile_model(conn.recv())
+    _step(next(i for i, (_, _, step) in enumerate(STEPS) if step is _speed_solver))
+
+
+class _ModelTypeSender(event.Listener):
+    """Sends, once, the Numba type of the packed arrays of the first element model whose
+    kernels Numba compiles in this process (a cache miss) to the compile-ahead process."""
+
+    def __init__(self, conn):
+        self.conn = conn
+
+    def on_start(self, ev):
+        from ..kernels.mechanism.constraint_system import ModelArrays, PlanarArrays, SpatialArrays
+
+        args = ev.data["args"]
+        if self.conn is None or not args or not ev.data["dispatcher"].py_func.__module__.startswith(
+                "periodyn.kernels.mechanism."):
+            return
+        if getattr(args[0], "instance_class", None) in (ModelArrays, PlanarArrays, SpatialArrays):
+            with contextlib.suppress(OSError):  # the process has ended: nothing to tell
+                self.conn.send(args[0])
+            self.conn = None
+
+    def on_end(self, ev):
+        pass
+
+
 def compile_ahead() -> None:
-    """On a cold cache and two or more cores, compile the speed solver's kernels in a
-    background process while this one goes on building the model (which compiles the
-    model's own kernel families here): a first sweep then waits for the larger of the two
-    compiles, not their sum. The process ends with this one; a kernel it has not finished
-    is compiled here when first called (cache files are written whole, see above). At most
-    one such process per process."""
+    """On a cold cache and two or more cores, compile kernels in a background process while
+    this one goes on building the model (which compiles the model's own kernel families
+    here): the speed solver's and, for an element model, its element arrays (the process is
+    told the model's arrays type at this process's first compile of the model's kernels,
+    :data:`_MODEL_KERNELS`). A first sweep then waits for the larger of the two compiles,
+    not their sum. The process ends with this one; a kernel it has not
+    finished is compiled here when first called (cache files are written whole, see above).
+    At most one such process per process."""
     global _AHEAD
     from .threads import available_cores
 
     if _AHEAD is None and available_cores() >= 2 and not kernels_cached():
-        solver = next(i for i, (_, _, step) in enumerate(STEPS) if step is _speed_solver)
-        _AHEAD = get_context("spawn").Process(target=_step, args=(solver,), daemon=True, name="periodyn-compile-ahead")
+        context = get_context("spawn")
+        receiver, sender = context.Pipe(duplex=False)
+        _AHEAD = context.Process(target=_ahead, args=(receiver,), daemon=True, name="periodyn-compile-ahead")
         _AHEAD.start()
+        event.register("numba:compile", _ModelTypeSender(sender))
 
 
 _AHEAD = None
