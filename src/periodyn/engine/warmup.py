@@ -99,8 +99,8 @@ def _dae() -> None:
 #: the DAE by bench_cold_start.py
 STEPS: tuple[tuple[str, float, Callable[[], None]], ...] = (
     ("speed solver (harmonic balance, Hill, Magnus monodromy and ladder)", 32.0, _speed_solver),
-    ("element models (kinematics, planar beam/truss/hinge linearization)", 45.0, _element_models),
-    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 90.0, _spatial_models),
+    ("element models (kinematics, planar beam/truss/hinge linearization)", 40.0, _element_models),
+    ("spatial element models (spatial beam, joints, rigid bodies: the Cardan shaft)", 60.0, _spatial_models),
     ("non-linear element models (implicit shooting)", 75.0, _nonlinear_element_models),
     ("spatial non-linear element models (implicit shooting of the Cardan shaft)", 100.0,
      _spatial_nonlinear_element_models),
@@ -118,20 +118,102 @@ def _step(i: int) -> float:
     return time.perf_counter() - began
 
 
+#: the kernels a compile-ahead process compiles for an element model, per class of its
+#: packed arrays, before the speed solver, as (module under periodyn.kernels, function,
+#: arguments: "arrays" the model's packed arrays, a number the dimensions of a C-contiguous
+#: float64 array, "pivots" an int64 vector, ("default", v) an argument left at its default).
+#: A first sweep compiles the deformation families first (the constraint equations, about a
+#: third of a spatial model's compile), then the constraint Jacobian's LU checks and the
+#: per-sample kernels, which also need the element arrays (the inertia families): for a
+#: spatial model the ahead process compiles the LU checks and the element arrays meanwhile,
+#: and the sweep's process loads them (the Cardan shaft: 56 s of CPU in the sweep's process,
+#: against 104). A planar model's own compile (about 35 s) is no longer than the solver's,
+#: so there the ahead process goes straight to the solver.
+_SPATIAL_KERNELS = (("mechanism.lu", "lu_factor", (2, "pivots")), ("mechanism.lu", "norm1", (2,)),
+                    ("mechanism.lu", "inverse_norm1", (2, "pivots", ("default", 5))),
+                    ("mechanism.assembly", "element_arrays", ("arrays", 1, 1, 1, 2, 3, 4, 3, 3, 3, 1)))
+_MODEL_KERNELS = {"SpatialArrays": _SPATIAL_KERNELS, "ModelArrays": _SPATIAL_KERNELS}
+#: seconds a compile-ahead process waits, once started, for the arrays type of the model
+_MODEL_WAIT = 1.0
+
+
+def _signatures(arrays_type, kernels) -> list:
+    """[(dispatcher, signature)] of ``kernels`` (as in :data:`_MODEL_KERNELS`) for an element
+    model whose packed arrays have the Numba type ``arrays_type``."""
+    from importlib import import_module
+
+    from numba.core import types
+
+    def arg(spec):
+        if spec == "arrays":
+            return arrays_type
+        if spec == "pivots":
+            return types.Array(types.int64, 1, "C")
+        return types.Omitted(spec[1]) if isinstance(spec, tuple) else types.Array(types.float64, spec, "C")
+
+    return [(getattr(import_module(f"periodyn.kernels.{module}"), name), tuple(arg(a) for a in spec))
+            for module, name, spec in kernels]
+
+
+def _compile_model(arrays_type) -> None:
+    """Compile (or load from the cache) the :data:`_MODEL_KERNELS` of the arrays type's
+    class for that type, in order."""
+    for dispatcher, signature in _signatures(arrays_type, _MODEL_KERNELS.get(arrays_type.instance_class.__name__, ())):
+        dispatcher.compile(signature)
+
+
+def _ahead(conn) -> None:
+    """The compile-ahead process: the :data:`_MODEL_KERNELS` of the element model whose
+    arrays type arrives on ``conn`` within :data:`_MODEL_WAIT` s (none for a model without
+    elements), then the speed solver."""
+    import numba  # noqa: F401  (imported before the wait: the type unpickles to Numba types)
+
+    if conn.poll(_MODEL_WAIT):
+        _compile_model(conn.recv())
+    _step(next(i for i, (_, _, step) in enumerate(STEPS) if step is _speed_solver))
+
+
+class _ModelTypeSender(event.Listener):
+    """Sends, once, the Numba type of the packed arrays of the first element model whose
+    kernels Numba compiles in this process (a cache miss) to the compile-ahead process."""
+
+    def __init__(self, conn):
+        self.conn = conn
+
+    def on_start(self, ev):
+        from ..kernels.mechanism.constraint_system import ModelArrays, PlanarArrays, SpatialArrays
+
+        args = ev.data["args"]
+        if self.conn is None or not args or not ev.data["dispatcher"].py_func.__module__.startswith(
+                "periodyn.kernels.mechanism."):
+            return
+        if getattr(args[0], "instance_class", None) in (ModelArrays, PlanarArrays, SpatialArrays):
+            with contextlib.suppress(OSError):  # the process has ended: nothing to tell
+                self.conn.send(args[0])
+            self.conn = None
+
+    def on_end(self, ev):
+        pass
+
+
 def compile_ahead() -> None:
-    """On a cold cache and two or more cores, compile the speed solver's kernels in a
-    background process while this one goes on building the model (which compiles the
-    model's own kernel families here): a first sweep then waits for the larger of the two
-    compiles, not their sum. The process ends with this one; a kernel it has not finished
-    is compiled here when first called (cache files are written whole, see above). At most
-    one such process per process."""
+    """On a cold cache and two or more cores, compile kernels in a background process while
+    this one goes on building the model (which compiles the model's own kernel families
+    here): the speed solver's and, for a spatial element model, its LU checks and element
+    arrays (the process is told the model's arrays type at this process's first compile of
+    the model's kernels, :data:`_MODEL_KERNELS`). A first sweep then waits for the larger of the two compiles,
+    not their sum. The process ends with this one; a kernel it has not
+    finished is compiled here when first called (cache files are written whole, see above).
+    At most one such process per process."""
     global _AHEAD
     from .threads import available_cores
 
     if _AHEAD is None and available_cores() >= 2 and not kernels_cached():
-        solver = next(i for i, (_, _, step) in enumerate(STEPS) if step is _speed_solver)
-        _AHEAD = get_context("spawn").Process(target=_step, args=(solver,), daemon=True, name="periodyn-compile-ahead")
+        context = get_context("spawn")
+        receiver, sender = context.Pipe(duplex=False)
+        _AHEAD = context.Process(target=_ahead, args=(receiver,), daemon=True, name="periodyn-compile-ahead")
         _AHEAD.start()
+        event.register("numba:compile", _ModelTypeSender(sender))
 
 
 _AHEAD = None
@@ -167,10 +249,11 @@ def warm_up(stream: TextIO | None = None, processes: int | None = None) -> float
 
 #: CPU seconds (one core, cold cache, numba 0.68, LLVM -O1) of the outermost compiles of
 #: each kernel module in a first run, callees included (``benchmarks/compile_profile.py`` on
-#: the slider-crank and Cardan-shaft element sweep files: the larger of the two; a planar
-#: model compiles the mechanism modules in about 40 % of these)
-FAMILY_SECONDS = {"mechanism.split": 13.0, "mechanism.constraint_system": 32.0, "mechanism.assembly": 26.0,
-                  "solvers.magnus_ladder": 22.0, "mechanism.transfer": 13.0, "solvers.floquet": 7.0,
+#: the slider-crank and Cardan-shaft element sweep files: the larger of the two, here the
+#: Cardan shaft's; a planar model compiles the mechanism modules in about 60 % of these; for
+#: a spatial model on two cores, the compile-ahead process takes about half of "assembly")
+FAMILY_SECONDS = {"mechanism.split": 13.0, "mechanism.constraint_system": 20.0, "mechanism.assembly": 22.0,
+                  "solvers.magnus_ladder": 22.0, "mechanism.transfer": 7.0, "solvers.floquet": 7.0,
                   "solvers.banded": 5.0}
 
 

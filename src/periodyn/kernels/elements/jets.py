@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # its callers pass literal ints: one kernel each otherwise
 def size(n):
     """Entries of one jet over n coordinates."""
     return 1 + n + n * n + n * n * n
@@ -298,7 +298,7 @@ def rotation(lam, R):
                         lincomb(1.0, R[i, j], q, tmp, R[i, j])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # its callers pass literal ints: one kernel each otherwise
 def rotation_seeded(lam, offset, R):
     """R (3, 3, size(n)) = rotation matrix of Euler parameters that are the coordinates
     offset..offset+3 themselves (values lam (4,)); exploits that R is quadratic: the

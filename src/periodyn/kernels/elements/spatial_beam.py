@@ -63,7 +63,7 @@ def chord(xe, ip, iq, out):
         out[c, 1 + iq + c] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # its callers pass literal ints: one kernel each otherwise
 def axes(xe, par, node, offset, out):
     """out (3, 3, size(n)): jets of the section axes ``t_k = R(lam) A[k]`` of node 0 (p) or
     1 (q), its Euler parameters at local positions offset..offset+3."""

@@ -31,15 +31,21 @@ from .rotation import product
 HINGE_ROTATION = 0  # the hinge's rotation mode, an angle defined modulo 2 pi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def store(J, k, n, D, Dx, Dxx, Dxxx):
-    """Write the jet J over n coordinates as mode k: D[k], Dx[k, :n], Dxx[k, :n, :n],
-    Dxxx[k, :n, :n, :n]."""
-    v, g, H, T = jets.parts(J)
-    D[k] = v[0]
-    Dx[k, :n] = g
-    Dxx[k, :n, :n] = H
-    Dxxx[k, :n, :n, :n] = T
+    """Write the jet J over n coordinates (laid out as :func:`jets.parts`) as mode k: D[k],
+    Dx[k, :n], Dxx[k, :n, :n], Dxxx[k, :n, :n, :n]. Inlined, with loops rather than slice
+    assignments: a kernel per call site's literal (k, n) and Numba's shape-mismatch message
+    code are what a compile would otherwise add."""
+    D[k] = J[0]
+    o2 = 1 + n
+    o3 = o2 + n * n
+    for a in range(n):
+        Dx[k, a] = J[1 + a]
+        for b in range(n):
+            Dxx[k, a, b] = J[o2 + a * n + b]
+            for c in range(n):
+                Dxxx[k, a, b, c] = J[o3 + (a * n + b) * n + c]
 
 
 @njit(cache=True)

@@ -47,7 +47,7 @@ def inertia(arr, family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     _INERTIA[type(arr)](family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def planar_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     """:func:`inertia` over the planar families (other ids do nothing)."""
     if family == FAMILY_PLANAR_BEAM:
@@ -56,7 +56,7 @@ def planar_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
         planar_truss.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def spatial_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     """:func:`inertia` over the spatial families (other ids do nothing)."""
     if family == FAMILY_SPATIAL_TRUSS:
@@ -67,7 +67,7 @@ def spatial_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
         spatial_beam.inertia(xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mixed_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     """:func:`inertia` over every family."""
     planar_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke)
@@ -77,7 +77,7 @@ def mixed_inertia(family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
 _INERTIA = {PlanarArrays: planar_inertia, SpatialArrays: spatial_inertia, ModelArrays: mixed_inertia}
 
 
-@overload(inertia)
+@overload(inertia, inline="always")
 def _inertia_of_class(arr, family, xe, ve, ae, ipar, gravity, Me, re, Ce, Ke):
     kernel = _INERTIA[arr.instance_class]
 

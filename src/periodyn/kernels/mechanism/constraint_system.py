@@ -14,6 +14,12 @@ and :data:`ModelArrays` (any mix), chosen by :func:`arrays_class`. The family di
 (:func:`deformation`) is chosen at typing time from the arrays' class, so every kernel
 taking ``arr`` is compiled once per class in use and a planar model never compiles (nor
 links and optimizes again) the spatial families, nor a spatial model the planar ones.
+
+The dispatch is inlined into its caller (``inline="always"``, as are small helpers on the
+way from the entry points to the family kernels): a function Numba compiles on its own
+links, optimizes and generates machine code for all its callees once more, so each level
+less between the entry points and the families shortens a cold compile (by a few seconds
+per level for the spatial families).
 """
 
 from collections import namedtuple
@@ -83,7 +89,7 @@ def deformation(arr, family, xe, par, D, Dx, Dxx, Dxxx):
     _DEFORMATION[type(arr)](family, xe, par, D, Dx, Dxx, Dxxx)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def planar_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
     """:func:`deformation` over the planar families (other ids do nothing)."""
     if family == FAMILY_PLANAR_BEAM:
@@ -94,7 +100,7 @@ def planar_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
         planar_hinge.deformation(xe, par, D, Dx, Dxx, Dxxx)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def spatial_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
     """:func:`deformation` over the spatial families (other ids do nothing)."""
     if family == FAMILY_SPATIAL_BEAM:
@@ -109,7 +115,7 @@ def spatial_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
         spatial_joints.rigid_link(xe, par, D, Dx, Dxx, Dxxx)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mixed_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
     """:func:`deformation` over every family (one of the two sets matches)."""
     planar_deformation(family, xe, par, D, Dx, Dxx, Dxxx)
@@ -119,7 +125,7 @@ def mixed_deformation(family, xe, par, D, Dx, Dxx, Dxxx):
 _DEFORMATION = {PlanarArrays: planar_deformation, SpatialArrays: spatial_deformation, ModelArrays: mixed_deformation}
 
 
-@overload(deformation)
+@overload(deformation, inline="always")
 def _deformation_of_class(arr, family, xe, par, D, Dx, Dxx, Dxxx):
     kernel = _DEFORMATION[arr.instance_class]
 

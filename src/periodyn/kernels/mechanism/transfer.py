@@ -10,7 +10,7 @@ from numba import njit
 from .constraint_system import allocate_equations, along, contract2, equations
 from .lu import factor, inverse_norm1, lu_factor, lu_solve, norm1
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def newton(arr, x, b, tol, max_iter):
     """Solve Phi(x) = b in place from the guess x (n_x,). Returns (iterations, residual
     inf-norm, condition flag) with flag 0 = converged, 1 = no convergence,
@@ -36,7 +36,7 @@ def newton(arr, x, b, tol, max_iter):
     return max_iter, res, 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def input_jacobian(arr, x):
     """F_q = J^-1 rhs_q at a solved configuration x; (n_x, n_q)."""
     D, Dx, Dxx, Dxxx, Phi, J = allocate_equations(arr)
