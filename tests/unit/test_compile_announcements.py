@@ -4,7 +4,6 @@ import io
 
 import numba
 import numpy as np
-import pytest
 from numba import njit
 from numba.core import event
 

@@ -200,11 +200,11 @@ def compile_ahead() -> None:
     """On a cold cache and two or more cores, compile kernels in a background process while
     this one goes on building the model (which compiles the model's own kernel families
     here): the speed solver's and, for a spatial element model, its LU checks and element
-    arrays (the process is told the model's arrays type at this process's first compile of
-    the model's kernels, :data:`_MODEL_KERNELS`). A first sweep then waits for the larger of the two compiles,
-    not their sum. The process ends with this one; a kernel it has not
-    finished is compiled here when first called (cache files are written whole, see above).
-    At most one such process per process."""
+    arrays (:data:`_MODEL_KERNELS`; the process is told the model's arrays type at this
+    process's first compile of the model's kernels). A first sweep then waits for the
+    larger of the two compiles, not their sum. The process ends with this one; a kernel it
+    has not finished is compiled here when first called (cache files are written whole,
+    see above). At most one such process per process."""
     global _AHEAD
     from .threads import available_cores
 
