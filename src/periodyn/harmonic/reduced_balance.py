@@ -15,7 +15,8 @@ correct the coupling (block Jacobi). The residual ``f - W q`` of the FULL equati
 evaluated per iteration by alternating frequency-time products on P = band + 2m + 1 angles
 (exact: no product of a coefficient harmonic |d| <= band with a response harmonic |b| <= m
 aliases onto a balanced harmonic |a| <= m), O(P n^2) per speed instead of an
-O(((2m+1) n)^3) LU. A speed whose relative residual does not reach RTOL within ITERATIONS
+O(((2m+1) n)^3) LU. The iterates and residuals are those of a real solution, kept as
+their harmonics a = 0..m (a < 0: the conjugates). A speed whose relative residual does not reach RTOL within ITERATIONS
 steps is reported as not converged (the caller solves it in full).
 """
 
@@ -174,7 +175,7 @@ class ReducedBalance:
                 y = sla.lu_solve(kept[s], b, check_finite=False)
                 x[s, :, :k] += from_real_basis(y[:, None], m, k, halves=1)[:, 0].reshape(2 * m + 1, k)[m:]
             x[todo, :, k:] += rm[:, :, k:] / D[todo]
-            x[todo, 0] = x[todo, 0].real
+            x[todo, 0] = x[todo, 0].real  # the mean of a real solution (its rounding in the solves)
             q[todo] = _times_real(x[todo], Phi.T)
             r = self.residual(w[todo], q[todo], f[todo], (used, order, blocks[todo]))
             rel[todo] = np.sqrt((weight * np.abs(r) ** 2).sum(axis=(1, 2))) / scale[todo]
