@@ -16,8 +16,8 @@ evaluated per iteration by alternating frequency-time products on P = band + 2m 
 (exact: no product of a coefficient harmonic |d| <= band with a response harmonic |b| <= m
 aliases onto a balanced harmonic |a| <= m), O(P n^2) per speed instead of an
 O(((2m+1) n)^3) LU. The iterates and residuals are those of a real solution, kept as
-their harmonics a = 0..m (a < 0: the conjugates). A speed whose relative residual does not reach RTOL within ITERATIONS
-steps is reported as not converged (the caller solves it in full).
+their harmonics a = 0..m (a < 0: the conjugates). A speed whose relative residual does not
+reach RTOL within ITERATIONS steps is reported as not converged (the caller solves it in full).
 """
 
 from __future__ import annotations
