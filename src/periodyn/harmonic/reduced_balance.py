@@ -15,8 +15,9 @@ correct the coupling (block Jacobi). The residual ``f - W q`` of the FULL equati
 evaluated per iteration by alternating frequency-time products on P = band + 2m + 1 angles
 (exact: no product of a coefficient harmonic |d| <= band with a response harmonic |b| <= m
 aliases onto a balanced harmonic |a| <= m), O(P n^2) per speed instead of an
-O(((2m+1) n)^3) LU. A speed whose relative residual does not reach RTOL within ITERATIONS
-steps is reported as not converged (the caller solves it in full).
+O(((2m+1) n)^3) LU. The iterates and residuals are those of a real solution, kept as
+their harmonics a = 0..m (a < 0: the conjugates). A speed whose relative residual does not
+reach RTOL within ITERATIONS steps is reported as not converged (the caller solves it in full).
 """
 
 from __future__ import annotations
@@ -71,11 +72,12 @@ class ReducedBalance:
         self.floors = noise_floors(self.mags)
         self.exponents = np.array([0] + list(range(Pc)) + list(range(Pk)))
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
-        a = np.arange(-m, m + 1)
-        self.synthesis = np.exp(1j * np.outer(theta, a))  # (P, 2m+1): samples of sum_a x_a e^{i a theta}
-        self.analysis = np.conj(self.synthesis.T) / P  # (2m+1, P)
-        self.real_synthesis = np.concatenate([self.synthesis.real, -self.synthesis.imag], axis=1)  # Re(E Z), (P, 2(2m+1))
-        self.force = np.stack([fs[a + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
+        # a real solution's harmonics a >= 0 suffice (x_-a = conj x_a): samples of
+        # sum_a x_a e^{i a theta} = Re(x_0 + 2 sum_{a>0} x_a e^{i a theta}), (P, 2(m+1)) on [Re x; Im x]
+        E = np.exp(1j * np.outer(theta, np.arange(m + 1))) * np.where(np.arange(m + 1) > 0, 2.0, 1.0)
+        self.real_synthesis = np.concatenate([E.real, -E.imag], axis=1)
+        self.analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # (m+1, P)
+        self.force = np.stack([fs[np.arange(-m, m + 1) + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
         Phi = modes.shapes
         self.mean_diagonals = [np.einsum("ni,nm,mi->i", Phi, X.mean(axis=0), Phi)
                                for X in (model.mass, *model.damping, *model.stiffness)]
@@ -115,24 +117,26 @@ class ReducedBalance:
         return used, order, blocks
 
     def residual(self, w: np.ndarray, q: np.ndarray, f: np.ndarray, terms=None) -> np.ndarray:
-        """f - W(w) q (S, 2m+1, n) of the full HB equations for physical harmonics q (S, 2m+1, n):
-        per angle the samples of the terms taken (``terms``: :meth:`terms_at` of w) times
-        those of q'', w^p q' or w^p q, plus the other terms' mean blocks."""
+        """f - W(w) q (S, m+1, n) of the full HB equations, harmonics a = 0..m, for the
+        harmonics a = 0..m of a real solution q (S, m+1, n) and force f (S, m+1, n): per
+        angle the samples of the terms taken (``terms``: :meth:`terms_at` of w) times those
+        of q'', w^p q' or w^p q, plus the other terms' mean blocks times the harmonics."""
         used, order, blocks = self.terms_at(w) if terms is None else terms
-        a = np.arange(-self.m, self.m + 1)
         n, S = self.n, w.size
-        jw = 1j * a[None, :, None] * w[:, None, None]
-        Z = np.concatenate([jw * jw * q, jw * q, q], axis=2)  # harmonics of q'', q', q, (S, 2m+1, 3n)
+        jw = 1j * np.arange(self.m + 1)[None, :, None] * w[:, None, None]
+        Z = np.concatenate([jw * jw * q, jw * q, q], axis=2)  # harmonics of q'', q', q, (S, m+1, 3n)
         y = np.matmul(self.real_synthesis, np.concatenate([Z.real, Z.imag], axis=1))  # their samples, (S, P, 3n)
         r = np.zeros((self.P, n, S))
         for t in np.flatnonzero(used):
             d = self.derivative[t]
             z = y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
             r += np.matmul(self.samples[t], np.ascontiguousarray(z.transpose(1, 2, 0)))
-        if order:
-            Y = np.concatenate([y[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, P, G n)
-            r += np.matmul(Y, blocks.transpose(0, 2, 1)).transpose(1, 2, 0)
-        return f - np.einsum("aj,jns->san", self.analysis, r, optimize=True)
+        out = f - np.einsum("aj,jns->san", self.analysis, r, optimize=True)
+        if order:  # a constant block's product with the harmonics, per harmonic
+            Y = np.concatenate([Z[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, m+1, G n)
+            mean = np.matmul(np.concatenate([Y.real, Y.imag], axis=1), blocks.transpose(0, 2, 1))
+            out -= mean[:, : self.m + 1] + 1j * mean[:, self.m + 1:]
+        return out
 
     def diagonal(self, w: np.ndarray) -> np.ndarray:
         """diag D_a of the mean modal block at speeds w (S,), (S, 2m+1, n)."""
@@ -151,34 +155,42 @@ class ReducedBalance:
         Phi = self.modes.shapes
         op = self.kept_operator(k)
         kept = [sla.lu_factor(A, check_finite=False) for A in op.real_balance_many(w)[0]]
-        D = self.diagonal(w)[:, :, k:]
+        D = self.diagonal(w)[:, m:, k:]
         f = self.forcing(w)
         scale = np.linalg.norm(f.reshape(S, -1), axis=1)
         scale = np.where(scale > 0, scale, 1.0)
+        f = 0.5 * (f + np.conj(f[:, ::-1]))[:, m:]  # harmonics a >= 0 of a real force
+        weight = np.where(np.arange(m + 1) > 0, 2.0, 1.0)[None, :, None]  # |v|^2 = sum_a>=0 weight_a |v_a|^2
         used, order, blocks = self.terms_at(w)
-        x = np.zeros((S, 2 * m + 1, n), dtype=complex)
+        x = np.zeros((S, m + 1, n), dtype=complex)
         q = np.zeros_like(x)
         r = f
         rel = np.full(S, np.inf)
         steps = np.zeros(S, dtype=int)
         todo = np.arange(S)
         for it in range(1, ITERATIONS + 1):
-            rm = _times_real(r, Phi)  # modal residual Phi^T r, (s, 2m+1, n)
+            rm = _times_real(r, Phi)  # modal residual Phi^T r, (s, m+1, n)
             for j, s in enumerate(todo):
-                b = to_real_basis(rm[j, :, :k].reshape(-1), m, k, halves=1)
+                b = to_real_basis(_mirror(rm[j, :, :k]).reshape(-1), m, k, halves=1)
                 y = sla.lu_solve(kept[s], b, check_finite=False)
-                x[s, :, :k] += from_real_basis(y[:, None], m, k, halves=1)[:, 0].reshape(2 * m + 1, k)
+                x[s, :, :k] += from_real_basis(y[:, None], m, k, halves=1)[:, 0].reshape(2 * m + 1, k)[m:]
             x[todo, :, k:] += rm[:, :, k:] / D[todo]
+            x[todo, 0] = x[todo, 0].real  # the mean of a real solution (its rounding in the solves)
             q[todo] = _times_real(x[todo], Phi.T)
             r = self.residual(w[todo], q[todo], f[todo], (used, order, blocks[todo]))
-            rel[todo] = np.linalg.norm(r.reshape(todo.size, -1), axis=1) / scale[todo]
+            rel[todo] = np.sqrt((weight * np.abs(r) ** 2).sum(axis=(1, 2))) / scale[todo]
             done = rel[todo] <= RTOL
             steps[todo[done]] = it
             todo, r = todo[~done], r[~done]
             if not todo.size:
                 break
-        q = 0.5 * (q + np.conj(q[:, ::-1]))  # the conjugate symmetry of a real solution
-        return q, rel, steps
+        return _mirror(q, axis=1), rel, steps
+
+
+def _mirror(v: np.ndarray, axis: int = 0) -> np.ndarray:
+    """All harmonics -m..m of a real signal from its harmonics a = 0..m along axis."""
+    v = np.moveaxis(v, axis, 0)
+    return np.moveaxis(np.concatenate([np.conj(v[:0:-1]), v]), 0, axis)
 
 
 def _times_real(X: np.ndarray, A: np.ndarray) -> np.ndarray:

@@ -153,7 +153,10 @@ class SweepTruncation:
         d = np.arange(-B, B + 1) + K
         self.floors = noise_floors(self.mags)  # (Q,)
         self.samples = [synthesize(X[d], theta) for X in terms]  # each term at the angles, (P, n, n)
-        self.synthesis = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))  # (P, 2m+1)
+        # samples Re(sum_a z_a e^(i a theta)) = sum_(a>=0) of the real parts of c_a zs_a e^(i a theta), zs_a =
+        # (z_a + conj z_-a) / 2, c_0 = 1, c_a = 2: one real product on [Re zs; Im zs], (P, 2(m+1))
+        E = np.exp(1j * np.outer(theta, np.arange(m + 1))) * np.where(np.arange(m + 1) > 0, 2.0, 1.0)
+        self.synthesis = np.concatenate([E.real, -E.imag], axis=1)
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
         self.modal = _modal_blocks(self.mean, Cs.shape[-1])
@@ -192,7 +195,9 @@ class SweepTruncation:
         r = np.zeros((blocks * BLOCK, self.synthesis.shape[0], self.n))  # (S padded, P, n)
         for t in np.flatnonzero(used.any(axis=0)):
             z = np.zeros((blocks * BLOCK, self.synthesis.shape[0], self.n))
-            z[:S] = np.matmul(self.synthesis[None], factors[t] * q).real  # samples, per speed
+            fq = factors[t] * q
+            half = 0.5 * (fq[:, m:] + np.conj(fq[:, m::-1]))  # (S, m+1, n)
+            z[:S] = np.matmul(self.synthesis[None], np.concatenate([half.real, half.imag], axis=1))  # samples, per speed
             zb = np.ascontiguousarray(z.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, n, BLOCK)
             rt = np.matmul(self.samples[t][None], zb).transpose(0, 3, 1, 2).reshape(r.shape)
             r[:S] += np.where(used[:, t, None, None], rt[:S], 0.0)
