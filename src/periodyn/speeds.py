@@ -151,6 +151,8 @@ _BATCH_ELEMENTS = 4_000_000  # matrix entries per stacked LAPACK call (memory of
 # speed_costs (load balance of sweeps): HB multiply-adds per second and set-up per speed
 # (Cardan shaft 0.1 ms, slider-crank 0.05 ms per speed measured on one core)
 _HB_RATE, _HB_SETUP = 1e10, 5e-6
+#: speeds at which a sweep's cost estimate is taken, at most (interpolated between them)
+COST_SPEEDS = 128
 
 
 class SpeedSolver:
@@ -220,8 +222,14 @@ class SpeedSolver:
         at every speed (its LU: the cheaper of N^3/3 dense and 2 N u^2 banded multiply-adds, at
         _HB_RATE, plus a set-up); the stability method adds its own estimate
         (``sweep_cost`` of its registry entry: "auto" its Magnus climb, "monodromy" its
-        integration over one period; the others cost the same at every speed)."""
+        integration over one period; the others cost the same at every speed). Beyond
+        COST_SPEEDS speeds the estimate is taken at COST_SPEEDS speeds spread evenly over their
+        range and interpolated (it changes slowly with the speed; computed in the sweep's own
+        process, it must not grow with the sweep)."""
         w = check_speeds(omegas)
+        if w.size > COST_SPEEDS:
+            grid = np.linspace(w.min(), w.max(), COST_SPEEDS)
+            return np.interp(w, grid, self.speed_costs(grid))
         pat = self.pattern
         hb = _HB_SETUP + min(pat.size**3 / 3.0, 2.0 * pat.size * pat.half_bandwidth**2) / _HB_RATE
         if self.reduced_balance:  # about five residuals (P = band + 2m + 1 angles, 6 n^2 each) and the kept LU

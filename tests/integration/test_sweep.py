@@ -227,6 +227,22 @@ def test_speed_costs_follow_the_stability_work(model):
     assert np.all(fixed == fixed[0]) and fixed[0] > 0
 
 
+def test_speed_costs_of_many_speeds_are_interpolated(model):
+    """Beyond COST_SPEEDS speeds the estimate is interpolated between COST_SPEEDS evenly
+    spread speeds (its cost in the sweep's own process stays bounded): it is the
+    interpolant of the estimate at those speeds, and its total is within 5 % of the
+    speed-by-speed one."""
+    from periodyn.speeds import COST_SPEEDS
+
+    solver = SpeedSolver(model, M)
+    w = W0 * np.linspace(0.01, 1.0, 4 * COST_SPEEDS + 1)
+    many = solver.speed_costs(w)
+    exact = np.concatenate([solver.speed_costs(part) for part in np.array_split(w, 8)])  # each <= COST_SPEEDS
+    grid = np.linspace(w[0], w[-1], COST_SPEEDS)
+    np.testing.assert_allclose(many, np.interp(w, grid, solver.speed_costs(grid)), rtol=1e-12)
+    assert abs(many.sum() / exact.sum() - 1) < 0.05
+
+
 def test_checkpoint_resume_after_interrupt(model, serial, tmp_path):
     out = tmp_path / "sweep.nc"
 
