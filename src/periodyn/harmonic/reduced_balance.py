@@ -26,11 +26,11 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..model.reduce import MeanModes, project
-from ..numerics.spectra import sample_angles, synthesize
+from ..numerics.spectra import half_synthesis, sample_angles, synthesize
 from ..system import OmegaSplitModel
 from .operator import HarmonicOperator
 from .pattern import from_real_basis, to_real_basis
-from .truncation import above_noise, noise_floors
+from .truncation import above_noise, coefficient_terms
 
 __all__ = ["ReducedBalance", "RTOL", "ITERATIONS"]
 
@@ -56,7 +56,7 @@ class ReducedBalance:
         K = (Ms.shape[0] - 1) // 2
         d = np.arange(-band, band + 1)
 
-        terms = [Ms] + [Cs[..., p] for p in range(Cs.shape[-1])] + [Ks[..., p] for p in range(Ks.shape[-1])]
+        terms, self.mags, self.floors, self.exponents = coefficient_terms(Ms, Cs, Ks)
         self.powers = Pc, Pk = Cs.shape[-1], Ks.shape[-1]
         # per coordinate row, the largest coefficient of the terms of the HB matrix's rows per
         # power of omega they multiply (stiffness; damping times m; mass times m^2), (PW, n)
@@ -68,14 +68,8 @@ class ReducedBalance:
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
         self.samples = [synthesize(X[d + K], theta) for X in terms]  # each term at the P angles, (P, n, n)
         self.means = [X[K].real for X in terms]  # their mean blocks (n, n)
-        self.mags = np.stack([np.abs(X).reshape(X.shape[0], -1).max(axis=1) for X in terms])  # (Q, 2K+1)
-        self.floors = noise_floors(self.mags)
-        self.exponents = np.array([0] + list(range(Pc)) + list(range(Pk)))
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
-        # a real solution's harmonics a >= 0 suffice (x_-a = conj x_a): samples of
-        # sum_a x_a e^{i a theta} = Re(x_0 + 2 sum_{a>0} x_a e^{i a theta}), (P, 2(m+1)) on [Re x; Im x]
-        E = np.exp(1j * np.outer(theta, np.arange(m + 1))) * np.where(np.arange(m + 1) > 0, 2.0, 1.0)
-        self.real_synthesis = np.concatenate([E.real, -E.imag], axis=1)
+        self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # (m+1, P)
         self.force = np.stack([fs[np.arange(-m, m + 1) + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
         Phi = modes.shapes

@@ -20,10 +20,10 @@ harmonic convolution and the O(B n^2) evaluation of every coefficient harmonic a
 The coefficients' harmonics carry rounding noise (1e-14 to 3e-13 of a term's largest entry,
 the kinematic Newton tolerance, flat over the harmonics): the band ends where the harmonics
 reach FLOOR times each term's noise floor, and a term whose harmonics are all noise enters
-the products by its mean only (in D_l), not by its noise. Of the harmonics l it solves D_l exactly only those that can hold the largest estimate: in
-the basis Phi of the mean system's undamped modes, D_l = Phi^-T (Dg + E) Phi^-1 with Dg
-diagonal, and with column weights v_i = max_a |Phi_ai| and rho = max_j sum_i v_i |E_ij| /
-(|Dg_i| v_j) < 1,
+the products by its mean only (in D_l), not by its noise. Of the harmonics l it solves D_l
+exactly only those that can hold the largest estimate: in the basis Phi of the mean
+system's undamped modes, D_l = Phi^-T (Dg + E) Phi^-1 with Dg diagonal, and with column
+weights v_i = max_a |Phi_ai| and rho = max_j sum_i v_i |E_ij| / (|Dg_i| v_j) < 1,
 
     |D_l^-1 R_l|_max <= sum_i v_i |(Phi^T R_l)_i / Dg_i| / (1 - rho)      (O(n^2) per l),
 
@@ -36,10 +36,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..numerics.spectra import min_samples, sample_angles, synthesize
+from ..numerics.spectra import half_synthesis, min_samples, sample_angles, synthesize
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
-           "SweepTruncation", "above_noise", "noise_floors"]
+           "SweepTruncation", "above_noise", "coefficient_terms", "noise_floors"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -134,29 +134,23 @@ class SweepTruncation:
     the largest (:meth:`bounds`). The products take the terms with harmonics above noise
     (:func:`above_noise`) with every coefficient harmonic up to the highest any term has
     above _NEGLIGIBLE of its own largest (B, a per-model constant) on P = 2(m + B) + 1
-    angles. Each speed's value depends
-    on its own data only, and every product runs per speed or on blocks of BLOCK speeds,
+    angles. Each speed's value depends on its own data only, and every product runs per speed or on blocks of BLOCK speeds,
     never as one matrix product over a varying number of speeds (whose rounding depends on
     it): a speed's value is the same to the bit in any chunk."""
 
     def __init__(self, spectra: tuple[np.ndarray, ...], m: int):
         Ms, Cs, Ks, fs = spectra
-        terms = [Ms] + [Cs[..., p] for p in range(Cs.shape[-1])] + [Ks[..., p] for p in range(Ks.shape[-1])]
+        terms, self.mags, self.floors, self.exponents = coefficient_terms(Ms, Cs, Ks)
         K, Kf = (Ms.shape[0] - 1) // 2, (fs.shape[0] - 1) // 2
         self.m, self.n, self.powers = m, Ms.shape[1], (Cs.shape[-1], Ks.shape[-1])
-        self.mags = np.stack([_magnitudes(X) for X in terms])  # (Q, 2K+1)
-        self.exponents = np.array([0] + list(range(Cs.shape[-1])) + list(range(Ks.shape[-1])))  # w-power per term
         self.force_mags = np.stack([_magnitudes(fs[..., p]) for p in range(fs.shape[-1])])  # (Pf, 2Kf+1)
         self.B = B = int(_top(self.mags).max())
         self.l = np.arange(m + 1, max(m + B, Kf) + 1)  # (L,) the unbalanced harmonics any speed can have
         theta = sample_angles(min_samples(m, B))
         d = np.arange(-B, B + 1) + K
-        self.floors = noise_floors(self.mags)  # (Q,)
         self.samples = [synthesize(X[d], theta) for X in terms]  # each term at the angles, (P, n, n)
-        # samples Re(sum_a z_a e^(i a theta)) = sum_(a>=0) of the real parts of c_a zs_a e^(i a theta), zs_a =
-        # (z_a + conj z_-a) / 2, c_0 = 1, c_a = 2: one real product on [Re zs; Im zs], (P, 2(m+1))
-        E = np.exp(1j * np.outer(theta, np.arange(m + 1))) * np.where(np.arange(m + 1) > 0, 2.0, 1.0)
-        self.synthesis = np.concatenate([E.real, -E.imag], axis=1)
+        # samples Re(sum_a z_a e^(i a theta)) from the real part's harmonics zs_a = (z_a + conj z_-a) / 2, a >= 0
+        self.synthesis = half_synthesis(m, theta)  # (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
         self.modal = _modal_blocks(self.mean, Cs.shape[-1])
@@ -175,19 +169,19 @@ class SweepTruncation:
         band = np.minimum(np.where(total > cut[:, None], k, 0).max(axis=1), self.B)
         return band, above_noise(self.mags, self.floors, self.exponents, w)
 
-    def tops(self, w: np.ndarray) -> np.ndarray:
-        """Highest unbalanced harmonic per speed (S,) at speeds w (S,): the band of
-        :meth:`content` past m, or the force's reach if higher."""
+    def tops(self, w: np.ndarray, band: np.ndarray | None = None) -> np.ndarray:
+        """Highest unbalanced harmonic per speed (S,) at speeds w (S,): the band (S,) of
+        :meth:`content` (computed when not given) past m, or the force's reach if higher."""
         reach = _top((w[:, None, None] ** np.arange(len(self.force_mags))[:, None] * self.force_mags[None]).sum(axis=1))
-        return np.maximum(self.m + self.content(w)[0], reach)
+        return np.maximum(self.m + (self.content(w)[0] if band is None else band), reach)
 
-    def unbalanced(self, q: np.ndarray, w: np.ndarray) -> np.ndarray:
+    def unbalanced(self, q: np.ndarray, w: np.ndarray, used: np.ndarray | None = None) -> np.ndarray:
         """Unbalanced harmonics R (S, L, n) (index l - m - 1) of the HB solutions q (S, 2m+1, n)
-        at speeds w (S,), from the terms :meth:`content` finds at each speed: per term, the
-        samples of its harmonics of q'', w^p q' or w^p q per speed, times the term's samples on
-        blocks of BLOCK speeds, summed per speed in term order."""
+        at speeds w (S,), from the terms used (S, Q) at each speed (:meth:`content`, computed
+        when not given): per term, the samples of its harmonics of q'', w^p q' or w^p q per
+        speed, times the term's samples on blocks of BLOCK speeds, summed per speed in term order."""
         S, m, (Pc, Pk) = w.size, self.m, self.powers
-        used = self.content(w)[1]  # (S, Q)
+        used = self.content(w)[1] if used is None else used  # (S, Q)
         jw = (np.arange(-m, m + 1)[None, :] * w[:, None])[..., None]  # (S, 2m+1, 1)
         wp = w[:, None, None]
         factors = [-jw ** 2] + [1j * jw * wp ** p for p in range(Pc)] + [wp ** p + 0 * jw for p in range(Pk)]
@@ -209,8 +203,9 @@ class SweepTruncation:
         where q is not finite)."""
         w = np.asarray(omega, float)
         S, Pc = w.size, self.powers[0]
-        top = self.tops(w)
-        R = self.unbalanced(q, w)
+        band, used = self.content(w)
+        top = self.tops(w, band)
+        R = self.unbalanced(q, w, used)
         M = self.mean[0]
         bound = self.bounds(R, w, top)
         order = np.argsort(-bound, axis=1, kind="stable")  # per speed, the largest bound first
@@ -260,6 +255,16 @@ class SweepTruncation:
             b = (weights * np.abs((proj[: s.size] + 1j * proj[s.size:]) / Dg)).sum(axis=1) / (1.0 - rho)
         out[s, i] = np.where((rho < 1.0) & np.isfinite(b), b, np.inf)
         return out
+
+
+def coefficient_terms(Ms: np.ndarray, Cs: np.ndarray, Ks: np.ndarray) -> tuple[list, np.ndarray, np.ndarray, np.ndarray]:
+    """The Q = 1 + Pc + Pk coefficient terms [M, C_p.., K_p..] (each (2K+1, n, n)) of power
+    spectra Ms (2K+1, n, n), Cs (2K+1, n, n, Pc), Ks (2K+1, n, n, Pk), their harmonic
+    magnitudes (Q, 2K+1) (largest entry modulus per harmonic), noise floors (Q,)
+    (:func:`noise_floors`) and omega-powers (Q,)."""
+    terms = [Ms] + [Cs[..., p] for p in range(Cs.shape[-1])] + [Ks[..., p] for p in range(Ks.shape[-1])]
+    mags = np.stack([_magnitudes(X) for X in terms])
+    return terms, mags, noise_floors(mags), np.array([0] + list(range(Cs.shape[-1])) + list(range(Ks.shape[-1])))
 
 
 def above_noise(mags: np.ndarray, floors: np.ndarray, exponents: np.ndarray, w: np.ndarray) -> np.ndarray:

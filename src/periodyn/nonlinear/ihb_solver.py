@@ -39,7 +39,7 @@ from .ihb_jacobian import JacobianPattern, block_needs
 from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..stability.methods import flow_choice
-from ..stability.orbit_flow import SampledGenerator, flow_exponents
+from ..stability.orbit_flow import SampledGenerator, flow_exponents, varying_entries
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -271,7 +271,7 @@ class IHBProblem:
         else:
             J = np.linalg.solve(M, J)
         flat = J.reshape(self.p, -1)
-        at = np.nonzero((flat != flat[0]).any(axis=0))[0]
+        at = varying_entries(flat)
         A0 = np.zeros((2 * n, 2 * n))
         A0[range(n), range(n, 2 * n)] = 1.0
         A0[n:] = J[0]

@@ -28,6 +28,7 @@ __all__ = [
     "StackedSpectra",
     "to_samples",
     "synthesize",
+    "half_synthesis",
     "spectral_tail",
     "min_samples",
 ]
@@ -139,6 +140,15 @@ def synthesize(coefficients: np.ndarray, theta: np.ndarray) -> np.ndarray:
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     basis = np.exp(1j * np.outer(theta, np.arange(-K, K + 1)))
     return np.tensordot(basis, c, axes=(1, 0)).real
+
+
+def half_synthesis(harmonics: int, theta: np.ndarray) -> np.ndarray:
+    """(s, 2(m+1)) real matrix giving the samples at angles theta (s,) of a real signal
+    sum_a x_a e^(i a theta) from its harmonics a = 0..m stacked as [Re x; Im x] (x_-a =
+    conj x_a: the samples are Re(x_0 + 2 sum_(a>0) x_a e^(i a theta)))."""
+    a = np.arange(harmonics + 1)
+    E = np.exp(1j * np.outer(np.atleast_1d(np.asarray(theta, dtype=float)), a)) * np.where(a > 0, 2.0, 1.0)
+    return np.concatenate([E.real, -E.imag], axis=1)
 
 
 def real_basis(harmonics: int, theta: np.ndarray) -> np.ndarray:

@@ -30,7 +30,7 @@ from ..kernels.solvers.floquet import sampled_magnus6
 from .floquet import STABILITY_TOL, FloquetExponents
 from .magnus import ERROR_FLOOR, MagnusLadder, gauss_angles
 
-__all__ = ["SampledGenerator", "flow_exponents", "interpolation_matrix", "START", "LARGEST"]
+__all__ = ["SampledGenerator", "varying_entries", "flow_exponents", "interpolation_matrix", "START", "LARGEST"]
 
 START, LARGEST = MagnusLadder.START[6], 1024  # steps of the first compared rung (against START / 2), most steps
 
@@ -43,6 +43,11 @@ def interpolation_matrix(p: int, steps: int) -> np.ndarray:
     diff = theta[:, None] - 2 * np.pi * np.arange(p)[None, :] / p
     k = np.arange(1, (p - 1) // 2 + 1)
     return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
+
+
+def varying_entries(flat: np.ndarray) -> np.ndarray:
+    """Indices (v,) of the columns of samples flat (p, N) that differ from the first row."""
+    return np.nonzero((flat != flat[0]).any(axis=0))[0]
 
 
 @dataclass(frozen=True)
@@ -62,7 +67,7 @@ class SampledGenerator:
         """From full samples A (p, d, d)."""
         A = np.asarray(A, dtype=float)
         flat = A.reshape(A.shape[0], -1)
-        varying = np.nonzero((flat != flat[0]).any(axis=0))[0]
+        varying = varying_entries(flat)
         return cls(A[0].copy(), varying, flat[:, varying])
 
     @property
@@ -78,11 +83,12 @@ class SampledGenerator:
         subharmonic / omega (Magnus needs steps in proportion to it; the ladder of "auto"
         balances stiff systems first)."""
         d = self.constant.shape[0]
-        columns = np.abs(self.constant).sum(axis=0)  # (d,) of the first sample
-        change = np.abs(self.values) - np.abs(self.constant.ravel()[self.varying])  # (p, v)
-        to_column = np.zeros((self.varying.size, d))
-        to_column[np.arange(self.varying.size), self.varying % d] = 1.0
-        sums = columns + change @ to_column  # (p, d) column sums of every sample
+        sums = np.repeat(np.abs(self.constant).sum(axis=0)[None], self.values.shape[0], axis=0)  # (p, d)
+        if self.varying.size:  # each sample's column sums: the first's, changed in the varying entries' columns
+            change = np.abs(self.values) - np.abs(self.constant.ravel()[self.varying])  # (p, v)
+            order = np.argsort(self.varying % d, kind="stable")
+            columns, starts = np.unique(self.varying[order] % d, return_index=True)
+            sums[:, columns] += np.add.reduceat(change[:, order], starts, axis=1)
         return float(sums.max()) * 2 * np.pi * subharmonic / float(omega)
 
     def half_period(self) -> bool:
@@ -97,7 +103,7 @@ class SampledGenerator:
     def first_half(self) -> "SampledGenerator":
         """The samples of the first half period (p even), with the entries varying there."""
         V = self.values[: self.values.shape[0] // 2]
-        keep = (V != V[0]).any(axis=0)
+        keep = varying_entries(V)
         return SampledGenerator(self.constant, self.varying[keep], V[:, keep])
 
     def monodromy(self, steps: int, period: float) -> np.ndarray:
@@ -132,7 +138,7 @@ def flow_exponents(A, omega: float, subharmonic: int = 1, reason: str = "") -> F
     t_j = T j / p over the orbit period T = 2 pi subharmonic / omega (omega: driving speed,
     rad/s), certified by step doubling (module docstring); None when LARGEST steps do not
     certify them (or the monodromy is not finite). Samples that repeat after half a period
-    (:func:`half_period`) are integrated over that half only. reason: why this method (kept,
+    (:meth:`SampledGenerator.half_period`) are integrated over that half only. reason: why this method (kept,
     followed by the steps and the error estimate, on the result)."""
     period = 2 * np.pi * subharmonic / float(omega)
     gen = _generator(A)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
-from ..harmonic.truncation import above_noise, noise_floors
+from ..harmonic.truncation import above_noise, coefficient_terms
 from ..model.reduce import guarded_modes, mean_modes
 from ..numerics.spectra import fourier_coefficients, min_samples, sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
@@ -141,8 +141,7 @@ class ReducedStability:
         self._ladders: dict[int, _Ladder] = {}
         self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
-        self._mags = np.abs(np.concatenate([self.M[..., None], self.C, self.K], axis=-1)).max(axis=(1, 2)).T  # (Q, 2K+1)
-        self._floors, self._exponents = noise_floors(self._mags), np.r_[0, np.arange(self.C.shape[-1]), np.arange(self.K.shape[-1])]
+        _, self._mags, self._floors, self._exponents = coefficient_terms(self.M, self.C, self.K)
 
     def couplings(self, k: int, m: int) -> tuple[np.ndarray, ...]:
         """The coupling blocks of k kept modes at P = 2K + 2m + 1 angles, with m harmonics
