@@ -136,6 +136,18 @@ class Arc:
         t = self.bordered_solve(solve or lu_factor(J), Rp, t_old, np.zeros(self.N), 1.0)
         return self._oriented(t, t_old)
 
+    def exact_tangent(self, X, p, t_old, start: ArcPoint | None = None) -> np.ndarray:
+        """Unit tangent at the solution (X, p) from J there, oriented along t_old, as the
+        corrector's exact tangent at a converged point (in reuse mode by GMRES preconditioned
+        with the factorization kept at ``start``, kept in turn for X)."""
+        J, Rp = self.equations(X, p)[1], self.dR_dp(X, p)
+        if not self.reuse:
+            return self._oriented(self.bordered_solve(lu_factor(J), Rp, t_old, np.zeros(self.N), 1.0), t_old)
+        pre = next((q for Y, q in self._kept if start is not None and Y is start.X), None)
+        d, pre = self._krylov_solve(J, Rp, t_old, np.zeros(self.N), 1.0, pre)
+        self._kept = self._kept[1 - _KEEP:] + [(X, pre)]
+        return self._oriented(d, t_old)
+
     def _oriented(self, t, t_old) -> np.ndarray:
         t = t / self.norm(t)
         return -t if self.dot(t, t_old) < 0 else t
