@@ -33,6 +33,7 @@ updates (``_CHORD_EASY``: at most this many grow ds, at least this many shrink i
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
@@ -110,10 +111,11 @@ class Arc:
         return (self.residual(X, p + h) - self.residual(X, p - h)) / (2 * h)
 
     def norm(self, d: np.ndarray) -> float:
-        return float(np.sqrt(np.sum(self.w * d[:self.N] ** 2) + self.wp * d[self.N] ** 2))
+        return math.sqrt(self.dot(d, d))
 
     def dot(self, a: np.ndarray, b: np.ndarray) -> float:
-        return float(np.sum(self.w * a[:self.N] * b[:self.N]) + self.wp * a[self.N] * b[self.N])
+        N = self.N
+        return float((self.w * a[:N]) @ b[:N] + self.wp * a[N] * b[N])
 
     def bordered_solve(self, solve, Rp, t, r_x, r_p, b=None) -> np.ndarray:
         """[[J, Rp], [w t_X, wp t_p]] [x; y] = [r_x; r_p] by block elimination (two solves
@@ -298,8 +300,8 @@ def _turn_factor(arc: Arc, a: ArcPoint, b: ArcPoint) -> float:
     fold, where the branch turns fastest, gets short steps, a straight stretch long ones. Not
     used on the first step (the start's tangent may be given, as on a switched branch)."""
     cos = arc.dot(a.t, b.t) / (arc.norm(a.t) * arc.norm(b.t))
-    angle = float(np.arccos(np.clip(cos, -1.0, 1.0)))
-    return float(np.clip(_TURN / max(angle, 1e-12), 0.5, 1.5))
+    angle = math.acos(min(max(cos, -1.0), 1.0))
+    return min(max(_TURN / max(angle, 1e-12), 0.5), 1.5)
 
 
 def _inside(pt: ArcPoint, ds: float, N: int, lo: float, hi: float, positive: bool) -> float:
