@@ -6,10 +6,10 @@ of :mod:`periodyn.stability.crossings` (period doubling through -1, Neimark-Sack
 complex pair); a crossing of +1 is a branch point (symmetry-breaking pitchfork or
 transcritical) while dp/ds keeps its sign (with a sign change of dp/ds it is the fold).
 Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
-indicator g(s) over a bracket s in [0, 1], with inverse quadratic interpolation through the
-three latest values where it lands inside the bracket (as Brent's method); folds use
-g = dp/ds along the arc (each trial point solved by the corrector, the bracket's far end
-the accepted point itself with its exact tangent), multiplier crossings fixed-parameter Newton solves with
+indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
+point solved by the corrector, the bracket's far end the accepted point itself with its
+exact tangent; inverse quadratic steps through the three latest values where they land
+inside the bracket, as in Brent's method), multiplier crossings fixed-parameter Newton solves with
 g = :func:`crossing_test` (period doubling, Neimark-Sacker) or :func:`branch_test` (branch
 point). One bracket reports each type once: two multipliers of one kind leaving in one step
 have one refined location (the test function's root), so a second entry would repeat it.
@@ -203,14 +203,16 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
     return out
 
 
-def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40):
+def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40,
+             quadratic: bool = False):
     """Root of a scalar indicator bracketed by a = (s_a, g_a, data_a), b = (s_b, g_b, data_b).
 
     g(s, a, b) -> (g(s), data) or None when the trial point cannot be solved (then None is
-    returned); the brackets are passed so a trial can start from their data. Each trial is
-    the inverse quadratic interpolation of the three latest values (the bracket ends, then
-    the trials) when they are distinct and it lies strictly inside the bracket, else the
-    Illinois step. Stops when |g| < ftol or the bracket is shorter than stol; returns
+    returned); the brackets are passed so a trial can start from their data. quadratic:
+    each trial is the inverse quadratic interpolation of the three latest values (the
+    bracket ends, then the trials) when they are distinct and it lies strictly inside the
+    bracket, else the Illinois step (for a smooth g whose trials solve well anywhere in the
+    bracket; a crossing's fixed-parameter Newton near a branch point does not). Stops when |g| < ftol or the bracket is shorter than stol; returns
     (s, data) of the last trial.
     """
     side = 0
@@ -219,7 +221,7 @@ def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_i
     for _ in range(max_iter):
         (sa, fa, da), (sb, fb, db) = a, b
         s = sa + fa * (sb - sa) / (fa - fb) if fa != fb else 0.5 * (sa + sb)
-        if len(seen) >= 3:
+        if quadratic and len(seen) >= 3:
             q = _inverse_quadratic(*seen[-3:])
             if min(sa, sb) < q < max(sa, sb):
                 s = q
@@ -304,7 +306,7 @@ def refine_fold(arc, a, b, ftol: float):
     if np.sign(tb[arc.N]) == np.sign(ta[arc.N]):
         return None
     end = (arc.dot(ta, d) / L, tb[arc.N], ArcPoint(b.X, b.p, tb, b.residual, b.iterations))
-    res = illinois(g, (0.0, ta[arc.N], a), end, ftol=ftol, stol=1e-12)
+    res = illinois(g, (0.0, ta[arc.N], a), end, ftol=ftol, stol=1e-12, quadratic=True)
     if res is None:
         return None
     pt = res[1]
