@@ -51,13 +51,7 @@ _FORWARD_REL = 2.0 ** -26  # relative omega step of the force's forward differen
 def default_samples(H: int) -> int:
     """Smallest 2^a 3^b >= min_samples(H, 2H) = 6H + 1 (see module docstring)."""
     need = min_samples(H, 2 * H)
-    best = None
-    for a in range(0, 20):
-        for b in range(0, 13):
-            v = 2 ** a * 3 ** b
-            if v >= need and (best is None or v < best):
-                best = v
-    return best
+    return min(v for v in (2 ** a * 3 ** b for a in range(20) for b in range(13)) if v >= need)
 
 
 class IHBProblem:
