@@ -204,7 +204,7 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
 
 
 def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40,
-             quadratic: bool = False):
+             quadratic: bool = False, first: float | None = None):
     """Root of a scalar indicator bracketed by a = (s_a, g_a, data_a), b = (s_b, g_b, data_b).
 
     g(s, a, b) -> (g(s), data) or None when the trial point cannot be solved (then None is
@@ -212,8 +212,10 @@ def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_i
     each trial is the inverse quadratic interpolation of the three latest values (the
     bracket ends, then the trials) when they are distinct and it lies strictly inside the
     bracket, else the Illinois step (for a smooth g whose trials solve well anywhere in the
-    bracket; a crossing's fixed-parameter Newton near a branch point does not). Stops when |g| < ftol or the bracket is shorter than stol; returns
-    (s, data) of the last trial.
+    bracket; a crossing's fixed-parameter Newton near a branch point does not). first: the
+    first trial when strictly inside the bracket (a model's root), else the Illinois step.
+    Stops when |g| < ftol or the bracket is shorter than stol; returns (s, data) of the last
+    trial.
     """
     side = 0
     s, data = None, None
@@ -221,10 +223,9 @@ def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_i
     for _ in range(max_iter):
         (sa, fa, da), (sb, fb, db) = a, b
         s = sa + fa * (sb - sa) / (fa - fb) if fa != fb else 0.5 * (sa + sb)
-        if quadratic and len(seen) >= 3:
-            q = _inverse_quadratic(*seen[-3:])
-            if min(sa, sb) < q < max(sa, sb):
-                s = q
+        q = first if len(seen) == 2 else _inverse_quadratic(*seen[-3:]) if quadratic else None
+        if q is not None and min(sa, sb) < q < max(sa, sb):
+            s = q
         res = g(s, a, b)
         if res is None:
             return None
@@ -306,11 +307,24 @@ def refine_fold(arc, a, b, ftol: float):
     if np.sign(tb[arc.N]) == np.sign(ta[arc.N]):
         return None
     end = (arc.dot(ta, d) / L, tb[arc.N], ArcPoint(b.X, b.p, tb, b.residual, b.iterations))
-    res = illinois(g, (0.0, ta[arc.N], a), end, ftol=ftol, stol=1e-12, quadratic=True)
+    # first trial: the turning point of the cubic p(s) matching p and dp/ds (of the hyperplane coordinate s,
+    # d s / d arc = ta . t / L) at both ends
+    first = _hermite_turn(end[0], a.p, b.p, ta[arc.N] * L, tb[arc.N] * L / arc.dot(ta, tb))
+    res = illinois(g, (0.0, ta[arc.N], a), end, ftol=ftol, stol=1e-12, quadratic=True, first=first)
     if res is None:
         return None
     pt = res[1]
     return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
+
+
+def _hermite_turn(h: float, pa: float, pb: float, da: float, db: float) -> float | None:
+    """Where the cubic Hermite interpolant of p on [0, h] (values pa, pb, slopes da, db of
+    opposite signs) has zero slope: the root in (0, h) of its quadratic derivative; None if
+    the data do not give one."""
+    A, B, C = 6.0 * (pa - pb) + 3.0 * h * (da + db), -6.0 * (pa - pb) - 4.0 * h * da - 2.0 * h * db, h * da
+    roots = np.roots([A, B, C]) if abs(A) > 0 else np.array([-C / B]) if B != 0 else np.array([])
+    inside = [float(u.real) for u in roots if abs(u.imag) <= 1e-12 * max(1.0, abs(u)) and 0.0 < u.real < 1.0]
+    return inside[0] * h if len(inside) == 1 else None
 
 
 def refine_crossing(equations, tol: float, a, b, value, bracket, ftol: float):

@@ -84,6 +84,22 @@ def test_quadratic_steps_find_the_root_in_fewer_trials():
     assert trials(True) < trials(False)
 
 
+def test_hermite_turn_is_exact_for_a_cubic():
+    """The fold refinement's first trial: the zero-slope point of the cubic through the end
+    values and slopes, exact when p(s) is itself a cubic; None without a sign change."""
+    from periodyn.arclength.events import _hermite_turn
+
+    def p(s):
+        return 1.0 + 0.5 * s - s ** 2 + 0.2 * s ** 3
+
+    def dp(s):
+        return 0.5 - 2.0 * s + 0.6 * s ** 2
+
+    h = 0.9
+    assert _hermite_turn(h, p(0.0), p(h), dp(0.0), dp(h)) == pytest.approx((2.0 - np.sqrt(2.8)) / 1.2, abs=1e-14)
+    assert _hermite_turn(0.2, p(0.0), p(0.2), dp(0.0), dp(0.2)) is None
+
+
 def test_two_multipliers_through_one_in_one_bracket_give_one_branch_point():
     """Both refine the one root of the same test function: reported once, not twice."""
     events = classify(1.0, 1.0, np.array([0.9, 0.95, 0.2]), np.array([1.1, 1.05, 0.2]))
