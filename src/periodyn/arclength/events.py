@@ -8,8 +8,9 @@ transcritical) while dp/ds keeps its sign (with a sign change of dp/ds it is the
 Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
 indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
 point solved by the corrector, the bracket's far end the accepted point itself with its
-exact tangent; inverse quadratic steps through the three latest values where they land
-inside the bracket, as in Brent's method), multiplier crossings fixed-parameter Newton solves with
+exact tangent; the first trial where the cubic matching p and dp/ds at both ends turns,
+then inverse quadratic steps through the three latest values where they land inside the
+bracket, as in Brent's method), multiplier crossings fixed-parameter Newton solves with
 g = :func:`crossing_test` (period doubling, Neimark-Sacker) or :func:`branch_test` (branch
 point). One bracket reports each type once: two multipliers of one kind leaving in one step
 have one refined location (the test function's root), so a second entry would repeat it.
