@@ -87,7 +87,8 @@ def _next_harmonics(H: int, defect: float, last: tuple | None) -> int:
 
 
 def _with_defects(branch: Branch) -> Branch:
-    return replace(branch, defect=branch_defects(branch.options["system"], branch.solutions))
+    X = branch.unknowns if branch.unknowns is not None and len(branch.unknowns) == len(branch) else None
+    return replace(branch, defect=branch_defects(branch.options["system"], branch.solutions, unknowns=X))
 
 
 def _flagged(branch: Branch, chosen: bool) -> Branch:

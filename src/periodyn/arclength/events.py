@@ -7,7 +7,10 @@ complex pair); a crossing of +1 is a branch point (symmetry-breaking pitchfork o
 transcritical) while dp/ds keeps its sign (with a sign change of dp/ds it is the fold).
 Refinement (:func:`illinois`): the Illinois (modified regula falsi) method on a scalar
 indicator g(s) over a bracket s in [0, 1]; folds use g = dp/ds along the arc (each trial
-point solved by the corrector), multiplier crossings fixed-parameter Newton solves with
+point solved by the corrector, the bracket's far end the accepted point itself with its
+exact tangent; the first trial where the cubic matching p and dp/ds at both ends turns,
+then inverse quadratic steps through the three latest values where they land inside the
+bracket, as in Brent's method), multiplier crossings fixed-parameter Newton solves with
 g = :func:`crossing_test` (period doubling, Neimark-Sacker) or :func:`branch_test` (branch
 point). One bracket reports each type once: two multipliers of one kind leaving in one step
 have one refined location (the test function's root), so a second entry would repeat it.
@@ -31,6 +34,7 @@ import scipy.linalg as sla
 from ..errors import ConvergenceError, InputError
 from ..numerics.newton_iteration import lu_factor, newton
 from ..stability.crossings import KINDS, classify_crossing, of_kind
+from .palc import ArcPoint
 
 __all__ = ["Event", "EventPoint", "KINDS", "SPECIAL_POINTS", "branch_test", "check_events", "classify",
            "crossing_test", "fold_test", "illinois", "null_vector", "of_kind", "refine_crossing", "refine_fold",
@@ -200,22 +204,34 @@ def classify(tp_a: float, tp_b: float, mu_a, mu_b) -> list[tuple[str, complex, f
     return out
 
 
-def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40):
+def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_iter: int = 40,
+             quadratic: bool = False, first: float | None = None):
     """Root of a scalar indicator bracketed by a = (s_a, g_a, data_a), b = (s_b, g_b, data_b).
 
     g(s, a, b) -> (g(s), data) or None when the trial point cannot be solved (then None is
-    returned); the brackets are passed so a trial can start from their data. Stops when
-    |g| < ftol or the bracket is shorter than stol; returns (s, data) of the last trial.
+    returned); the brackets are passed so a trial can start from their data. quadratic:
+    each trial is the inverse quadratic interpolation of the three latest values (the
+    bracket ends, then the trials) when they are distinct and it lies strictly inside the
+    bracket, else the Illinois step (for a smooth g whose trials solve well anywhere in the
+    bracket; a crossing's fixed-parameter Newton near a branch point does not). first: the
+    first trial when strictly inside the bracket (a model's root), else the Illinois step.
+    Stops when |g| < ftol or the bracket is shorter than stol; returns (s, data) of the last
+    trial.
     """
     side = 0
     s, data = None, None
+    seen = [a[:2], b[:2]]  # (s, g) of the bracket ends and the trials, oldest first
     for _ in range(max_iter):
         (sa, fa, da), (sb, fb, db) = a, b
         s = sa + fa * (sb - sa) / (fa - fb) if fa != fb else 0.5 * (sa + sb)
+        q = first if len(seen) == 2 else _inverse_quadratic(*seen[-3:]) if quadratic else None
+        if q is not None and min(sa, sb) < q < max(sa, sb):
+            s = q
         res = g(s, a, b)
         if res is None:
             return None
         f, data = res
+        seen.append((s, f))
         if abs(f) < ftol or abs(sb - sa) < stol:
             break
         if np.sign(f) == np.sign(fa):
@@ -229,6 +245,15 @@ def illinois(g: Callable, a: tuple, b: tuple, *, ftol: float, stol: float, max_i
                 a = (sa, 0.5 * fa, da)
             side = 1
     return s, data
+
+
+def _inverse_quadratic(p0, p1, p2) -> float:
+    """Root s of the quadratic s(g) through three points (s, g); NaN unless their g are distinct."""
+    (s0, f0), (s1, f1), (s2, f2) = p0, p1, p2
+    if f0 == f1 or f0 == f2 or f1 == f2:
+        return float("nan")
+    return (s0 * f1 * f2 / ((f0 - f1) * (f0 - f2)) + s1 * f0 * f2 / ((f1 - f0) * (f1 - f2))
+            + s2 * f0 * f1 / ((f2 - f0) * (f2 - f1)))
 
 
 def same_point(p1: float, g1: float, p2: float, g2: float, p_shared: float, g_shared: float, ftol: float) -> bool:
@@ -262,8 +287,11 @@ def null_vector(J, sweeps: int = 4) -> np.ndarray:
 
 def refine_fold(arc, a, b, ftol: float):
     """Zero of dp/ds on the arc from a (trial points on the tangent line of a, each solved
-    by the corrector); returns (X, p, residual, (dp/ds at a, b, there)) or None."""
-    L = arc.norm(np.concatenate([b.X - a.X, [b.p - a.p]]))
+    by the corrector on the hyperplane normal to it; the bracket's far end is b, which lies
+    on such a hyperplane, with its exact tangent); returns (X, p, residual, (dp/ds at a, b,
+    there)) or None."""
+    d = np.concatenate([b.X - a.X, [b.p - a.p]])
+    L = arc.norm(d)
     ta = a.t / arc.norm(a.t)  # unit in the arc's present scale (it may have grown since a)
 
     def g(s, *_):
@@ -273,14 +301,31 @@ def refine_fold(arc, a, b, ftol: float):
             return None
         return pt.t[arc.N], pt
 
-    end = g(1.0)
-    if end is None or np.sign(end[0]) == np.sign(a.t[arc.N]):
+    try:
+        tb = arc.exact_tangent(b.X, b.p, ta, start=a)
+    except (ConvergenceError, np.linalg.LinAlgError, sla.LinAlgWarning, ValueError, RuntimeError):
         return None
-    res = illinois(g, (0.0, a.t[arc.N], a), (1.0, end[0], end[1]), ftol=ftol, stol=1e-12)
+    if np.sign(tb[arc.N]) == np.sign(ta[arc.N]):
+        return None
+    end = (arc.dot(ta, d) / L, tb[arc.N], ArcPoint(b.X, b.p, tb, b.residual, b.iterations))
+    # first trial: the turning point of the cubic p(s) matching p and dp/ds (of the hyperplane coordinate s,
+    # d s / d arc = ta . t / L) at both ends
+    first = _hermite_turn(end[0], a.p, b.p, ta[arc.N] * L, tb[arc.N] * L / arc.dot(ta, tb))
+    res = illinois(g, (0.0, ta[arc.N], a), end, ftol=ftol, stol=1e-12, quadratic=True, first=first)
     if res is None:
         return None
     pt = res[1]
     return pt.X, pt.p, pt.residual, (a.t[arc.N], b.t[arc.N], pt.t[arc.N])
+
+
+def _hermite_turn(h: float, pa: float, pb: float, da: float, db: float) -> float | None:
+    """Where the cubic Hermite interpolant of p on [0, h] (values pa, pb, slopes da, db of
+    opposite signs) has zero slope: the root in (0, h) of its quadratic derivative; None if
+    the data do not give one."""
+    A, B, C = 6.0 * (pa - pb) + 3.0 * h * (da + db), -6.0 * (pa - pb) - 4.0 * h * da - 2.0 * h * db, h * da
+    roots = np.roots([A, B, C]) if abs(A) > 0 else np.array([-C / B]) if B != 0 else np.array([])
+    inside = [float(u.real) for u in roots if abs(u.imag) <= 1e-12 * max(1.0, abs(u)) and 0.0 < u.real < 1.0]
+    return inside[0] * h if len(inside) == 1 else None
 
 
 def refine_crossing(equations, tol: float, a, b, value, bracket, ftol: float):

@@ -33,6 +33,7 @@ updates (``_CHORD_EASY``: at most this many grow ds, at least this many shrink i
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
@@ -110,10 +111,11 @@ class Arc:
         return (self.residual(X, p + h) - self.residual(X, p - h)) / (2 * h)
 
     def norm(self, d: np.ndarray) -> float:
-        return float(np.sqrt(np.sum(self.w * d[:self.N] ** 2) + self.wp * d[self.N] ** 2))
+        return math.sqrt(self.dot(d, d))
 
     def dot(self, a: np.ndarray, b: np.ndarray) -> float:
-        return float(np.sum(self.w * a[:self.N] * b[:self.N]) + self.wp * a[self.N] * b[self.N])
+        N = self.N
+        return float((self.w * a[:N]) @ b[:N] + self.wp * a[N] * b[N])
 
     def bordered_solve(self, solve, Rp, t, r_x, r_p, b=None) -> np.ndarray:
         """[[J, Rp], [w t_X, wp t_p]] [x; y] = [r_x; r_p] by block elimination (two solves
@@ -135,6 +137,18 @@ class Arc:
             return self._oriented(self.bordered_solve(*pre[:2], t_old, np.zeros(self.N), 1.0, pre[2]), t_old)
         t = self.bordered_solve(solve or lu_factor(J), Rp, t_old, np.zeros(self.N), 1.0)
         return self._oriented(t, t_old)
+
+    def exact_tangent(self, X, p, t_old, start: ArcPoint | None = None) -> np.ndarray:
+        """Unit tangent at the solution (X, p) from J there, oriented along t_old, as the
+        corrector's exact tangent at a converged point (in reuse mode by GMRES preconditioned
+        with the factorization kept at ``start``, kept in turn for X)."""
+        J, Rp = self.equations(X, p)[1], self.dR_dp(X, p)
+        if not self.reuse:
+            return self._oriented(self.bordered_solve(lu_factor(J), Rp, t_old, np.zeros(self.N), 1.0), t_old)
+        pre = next((q for Y, q in self._kept if start is not None and Y is start.X), None)
+        d, pre = self._krylov_solve(J, Rp, t_old, np.zeros(self.N), 1.0, pre)
+        self._kept = self._kept[1 - _KEEP:] + [(X, pre)]
+        return self._oriented(d, t_old)
 
     def _oriented(self, t, t_old) -> np.ndarray:
         t = t / self.norm(t)
@@ -286,8 +300,8 @@ def _turn_factor(arc: Arc, a: ArcPoint, b: ArcPoint) -> float:
     fold, where the branch turns fastest, gets short steps, a straight stretch long ones. Not
     used on the first step (the start's tangent may be given, as on a switched branch)."""
     cos = arc.dot(a.t, b.t) / (arc.norm(a.t) * arc.norm(b.t))
-    angle = float(np.arccos(np.clip(cos, -1.0, 1.0)))
-    return float(np.clip(_TURN / max(angle, 1e-12), 0.5, 1.5))
+    angle = math.acos(min(max(cos, -1.0), 1.0))
+    return min(max(_TURN / max(angle, 1e-12), 0.5), 1.5)
 
 
 def _inside(pt: ArcPoint, ds: float, N: int, lo: float, hi: float, positive: bool) -> float:

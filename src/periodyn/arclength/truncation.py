@@ -42,9 +42,10 @@ def orbit_defect(system, solution, oversample: int = 4) -> float:
     return float(branch_defects(system, [solution], oversample)[0])
 
 
-def branch_defects(system, solutions, oversample: int = 4) -> np.ndarray:
+def branch_defects(system, solutions, oversample: int = 4, unknowns: np.ndarray | None = None) -> np.ndarray:
     """(k,) orbit defects (:func:`orbit_defect`) of k harmonic-balance PeriodicSolutions of
-    one H and subharmonic (the points of a branch), with one oversampled problem."""
+    one H and subharmonic (the points of a branch), with one oversampled problem; unknowns:
+    their IHB unknowns (k, size) at that H (a branch's own), else taken from the solutions."""
     if not isinstance(oversample, (int, np.integer)) or oversample < 1:
         raise InputError(f"oversample must be a positive integer, got {oversample!r}")
     s0 = solutions[0]
@@ -53,8 +54,9 @@ def branch_defects(system, solutions, oversample: int = 4) -> np.ndarray:
     out = np.empty(len(solutions))
     for k, sol in enumerate(solutions):
         P = dict(system.parameters, **sol.parameters)
-        _, r1, _, f = prob.sampled_residual(prob.from_solution(sol), float(sol.omega), P)
-        out[k] = np.max(np.abs(r1)) / max(np.max(np.abs(f)), np.finfo(float).tiny)
+        X = prob.from_solution(sol) if unknowns is None else unknowns[k]
+        _, r1, _, f = prob.sampled_residual(X, float(sol.omega), P)
+        out[k] = np.abs(r1).max() / max(np.abs(f).max(), np.finfo(float).tiny)
     return out
 
 

@@ -45,18 +45,13 @@ from ..dae import DAE
 __all__ = ["IHBProblem", "ihb", "default_samples"]
 
 _DENSE_SIZE = 200  # unknowns up to which the Newton Jacobian is dense (IHBProblem)
+_FORWARD_REL = 2.0 ** -26  # relative omega step of the force's forward difference (omega_derivative)
 
 
 def default_samples(H: int) -> int:
     """Smallest 2^a 3^b >= min_samples(H, 2H) = 6H + 1 (see module docstring)."""
     need = min_samples(H, 2 * H)
-    best = None
-    for a in range(0, 20):
-        for b in range(0, 13):
-            v = 2 ** a * 3 ** b
-            if v >= need and (best is None or v < best):
-                best = v
-    return best
+    return min(v for v in (2 ** a * 3 ** b for a in range(20) for b in range(13)) if v >= need)
 
 
 class IHBProblem:
@@ -95,6 +90,7 @@ class IHBProblem:
         self.dense = self.size <= _DENSE_SIZE if dense is None else bool(dense)
         M0 = system.mass(np.tile(np.asarray(system.q0, float), (self.p, 1)))
         self._mass = M0 if M0.strides[0] == 0 else None  # a constant mass: its (p, n, n) view, kept
+        self._unit_mass = self._mass is not None and np.array_equal(M0[0], np.eye(self.n))
         self._last = None  # samples and df/dq' of the latest Jacobian evaluation (omega_derivative)
         self._pattern = None  # JacobianPattern of the sparse Newton Jacobian, built at its first evaluation
 
@@ -156,18 +152,18 @@ class IHBProblem:
         """dR/domega at X (size,) for the continuation's bordered rows: the central difference
         (R(X, omega + h) - R(X, omega - h)) / 2h with the samples of X taken once (q', q''
         scale with omega) and one projection; right after the Jacobian at the same point of an
-        unconstrained system, the chain rule through q', q'' with its df/dq' and the difference
-        of the force's explicit dependence on t and omega alone."""
+        unconstrained system, the chain rule through q', q'' with its df/dq', and the force's
+        explicit dependence on t and omega alone by the forward difference (step
+        ``_FORWARD_REL`` |omega|, near sqrt(eps): one force call) from the residual's own force samples."""
         P = self.system.parameters if params is None else params
         p, nu, last = self.p, self.nu, self._at_last(X, omega, P)
-        if not self.m and last is not None:
-            # the Jacobian's samples at this point: q fixed, q' and q'' scale with omega (d/domega: q'/omega,
-            # 2 q''/omega), the force's explicit dependence on t = tau nu / omega and omega by the difference
-            q, qd, qdd, M, Cf = last[4:8] + last[9:]
-            f1, f2 = (self.system.force(q, qd, self.theta / (w / nu), w, P) for w in (omega + h, omega - h))
+        if not self.m and last is not None:  # the Jacobian's samples at this point: q fixed, q', q'' scale with
+            q, qd, qdd, M, Cf, f = last[4:8] + last[9:]  # omega (d/domega: q'/omega, 2 q''/omega)
+            w1 = omega + _FORWARD_REL * max(abs(omega), 1e-3)
+            f1 = self.system.force(q, qd, self.theta / (w1 / nu), w1, P)
             Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]
-            d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f2) / (2 * h)
-            return self.join(self._Pr @ d1, np.zeros((self.L, 0)))
+            d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f) / (w1 - omega)
+            return (self._Pr @ d1).T.ravel()
         Aq, Al = self.split(X)
         S = self._E3 @ Aq
         lam = self._E @ Al if self.m else np.zeros((p, 0))
@@ -178,7 +174,7 @@ class IHBProblem:
     def _at_last(self, X, omega, P):
         """The latest Jacobian evaluation's samples if it was at (X, omega, P), else None."""
         last = self._last
-        return last if last is not None and last[1] == omega and last[2] == P and np.array_equal(last[0], X) else None
+        return last if last is not None and last[1] == omega and last[2] == P and (last[0] == X).all() else None
 
     def sampled_residual(self, X: np.ndarray, omega: float, params=None):
         """The DAE residual at the p sample times, before projection: (t (p,), r1 =
@@ -205,12 +201,12 @@ class IHBProblem:
         sysm = self.system
         P = sysm.parameters if params is None else params
         t, q, qd, qdd, lam = self.time_samples(X, omega)
-        r1, r2, _, M, Pq = self._sampled(t, q, qd, qdd, lam, omega, P)
+        r1, r2, f, M, Pq = self._sampled(t, q, qd, qdd, lam, omega, P)
         R = self.join(self._Pr @ r1, self._Pr @ r2 if self.m else np.zeros((self.L, 0)))
         if not jacobian:
             return R, None
         Kf, Cf = sysm.force_jacobians(q, qd, t, omega, P)
-        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf)  # omega_derivative, state_generator there
+        self._last = (X.copy(), omega, P, t, q, qd, qdd, M, Kf, Cf, f)  # omega_derivative, state_generator there
         Kt = -Kf  # a new array: the terms below are added in place (one pass each over (p, n, n))
         if self.m:
             Kt += sysm.constraint_hessian(q, lam, t, omega, P)
@@ -258,22 +254,21 @@ class IHBProblem:
         P = self.system.parameters if params is None else params
         sysm, n, last = self.system, self.n, self._at_last(X, omega, P)
         if last is not None:  # the corrector's last Jacobian was at this orbit
-            t, q, qd, qdd, M, Kf, Cf = last[3:]
+            t, q, qd, qdd, M, Kf, Cf = last[3:10]
         else:
             t, q, qd, qdd, _ = self.time_samples(X, omega)
             M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
         J = np.concatenate([Kf, Cf], axis=2)  # (p, n, 2n): the lower block rows of A before M^-1
-        if M.strides[0] == 0:  # a constant mass: one factorization for every sample
-            if not np.array_equal(M[0], np.eye(n)):
+        if M.strides[0] == 0:  # a constant mass: one factorization for every sample (none for a unit mass)
+            if M is not self._mass or not self._unit_mass:
                 J = np.linalg.solve(M[0], J.transpose(1, 0, 2).reshape(n, -1)).reshape(n, self.p, 2 * n).transpose(1, 0, 2)
         else:
             J = np.linalg.solve(M, J)
         flat = J.reshape(self.p, -1)
         at = varying_entries(flat)
-        A0 = np.zeros((2 * n, 2 * n))
-        A0[range(n), range(n, 2 * n)] = 1.0
+        A0 = np.eye(2 * n, k=n)
         A0[n:] = J[0]
         return SampledGenerator(A0, 2 * n * n + at, flat[:, at])
 

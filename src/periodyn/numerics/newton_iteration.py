@@ -83,7 +83,7 @@ def newton(equations: Callable, x0, *, tol: float, max_iter: int, factor: Callab
     solve, rn = None, np.inf
     for it in range(max_iter + 1):
         R, J = equations(x)
-        rn = float(np.max(np.abs(R), initial=0.0))
+        rn = float(np.abs(R).max(initial=0.0))
         if not np.isfinite(rn):
             break
         if rn <= tol:

@@ -66,6 +66,40 @@ def test_illinois_finds_the_root_of_a_bracketed_indicator():
     assert abs(s - 0.7390851332151607) < 1e-13 and data == s and len(calls) < 15
 
 
+def test_quadratic_steps_find_the_root_in_fewer_trials():
+    """Inverse quadratic steps (fold refinement) on a curved indicator: the same root, to
+    the same tolerance, in fewer trials than the Illinois steps alone."""
+    def trials(quadratic):
+        calls = []
+
+        def g(s, a, b):
+            calls.append(s)
+            return np.exp(2 * s) - 3.0, s
+
+        s, _ = illinois(g, (0.0, -2.0, None), (1.0, np.exp(2.0) - 3.0, None), ftol=1e-12, stol=1e-15,
+                        quadratic=quadratic)
+        assert abs(s - np.log(3.0) / 2) < 1e-12
+        return len(calls)
+
+    assert trials(True) < trials(False)
+
+
+def test_hermite_turn_is_exact_for_a_cubic():
+    """The fold refinement's first trial: the zero-slope point of the cubic through the end
+    values and slopes, exact when p(s) is itself a cubic; None without a sign change."""
+    from periodyn.arclength.events import _hermite_turn
+
+    def p(s):
+        return 1.0 + 0.5 * s - s ** 2 + 0.2 * s ** 3
+
+    def dp(s):
+        return 0.5 - 2.0 * s + 0.6 * s ** 2
+
+    h = 0.9
+    assert _hermite_turn(h, p(0.0), p(h), dp(0.0), dp(h)) == pytest.approx((2.0 - np.sqrt(2.8)) / 1.2, abs=1e-14)
+    assert _hermite_turn(0.2, p(0.0), p(0.2), dp(0.0), dp(0.2)) is None
+
+
 def test_two_multipliers_through_one_in_one_bracket_give_one_branch_point():
     """Both refine the one root of the same test function: reported once, not twice."""
     events = classify(1.0, 1.0, np.array([0.9, 0.95, 0.2]), np.array([1.1, 1.05, 0.2]))

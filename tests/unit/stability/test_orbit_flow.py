@@ -8,7 +8,8 @@ from scipy.integrate import solve_ivp
 import periodyn
 from periodyn.nonlinear.ihb_solver import IHBProblem, ihb
 from periodyn.stability.methods import flow_choice
-from periodyn.stability.orbit_flow import SampledGenerator, flow_exponents, interpolation_matrix
+from periodyn.kernels.solvers.sampled_flow import gauss_values, sampled_monodromy
+from periodyn.stability.orbit_flow import SampledGenerator, flow_exponents
 
 
 def mathieu(a, b, c, k):
@@ -52,18 +53,29 @@ def test_half_period_detected_and_same_result():
     """cos(2t) repeats after half a period, cos(t) does not; the half-period route (Phi(T/2)^2)
     agrees with the reference."""
     S2, S1 = samples(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi, 32), samples(mathieu(0.6, 0.3, 0.02, 1), 2 * np.pi, 32)
-    assert SampledGenerator.from_samples(S2).half_period() and not SampledGenerator.from_samples(S1).half_period()
-    assert "half period" in flow_exponents(S2, 1.0).reason
+    assert "half period" in flow_exponents(S2, 1.0).reason and "half period" not in flow_exponents(S1, 1.0).reason
     ref = np.sort(np.abs(reference_multipliers(mathieu(0.6, 0.3, 0.02, 2), 2 * np.pi)))
     assert np.allclose(np.sort(np.abs(flow_exponents(S2, 1.0).multipliers)), ref, rtol=1e-7)
 
 
-def test_interpolation_is_exact_for_resolved_harmonics():
-    p, steps = 16, 8
+def interpolation_matrix(p, steps):
+    """(3 steps, p) weights of the trigonometric interpolant (harmonics 0..(p-1)//2) of p samples
+    at the Gauss angles of ``steps`` equal steps (the kernel's interpolation, written as weights)."""
+    theta = (np.arange(steps)[:, None] + np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])).ravel()
+    diff = theta[:, None] * 2 * np.pi / steps - 2 * np.pi * np.arange(p)[None, :] / p
+    k = np.arange(1, (p - 1) // 2 + 1)
+    return (1.0 + 2.0 * np.cos(diff[:, :, None] * k).sum(axis=2)) / p
+
+
+@pytest.mark.parametrize("p", [15, 16])
+def test_interpolation_is_exact_for_resolved_harmonics(p):
+    steps = 8
     x = np.cos(3 * 2 * np.pi * np.arange(p) / p) + 0.5 * np.sin(7 * 2 * np.pi * np.arange(p) / p)
     theta = (np.arange(steps)[:, None] + np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])).ravel()
     theta *= 2 * np.pi / steps
-    assert np.allclose(interpolation_matrix(p, steps) @ x, np.cos(3 * theta) + 0.5 * np.sin(7 * theta), atol=1e-13)
+    got = gauss_values(np.stack([x, 2 * x], axis=1), steps)
+    assert np.allclose(got[:, 0], np.cos(3 * theta) + 0.5 * np.sin(7 * theta), atol=1e-13)
+    assert np.allclose(got[:, 1], 2 * interpolation_matrix(p, steps) @ x, atol=1e-13)
 
 
 def test_stiff_orbit_goes_to_the_ladder():
@@ -87,24 +99,38 @@ def test_sampled_generator_keeps_only_the_varying_entries():
     assert gen.varying.size == 4 and np.array_equal(gen.samples, A)
     T = 2 * np.pi / 1.7 * 2
     assert gen.stiffness(1.7, 2) == pytest.approx(np.abs(A).sum(axis=1).max() * T, rel=1e-14)
-    half = np.concatenate([A[:6], A[:6]])
-    half[:6, 2, 2] = 5.0  # constant over the first half only
-    gh = SampledGenerator.from_samples(half)
-    assert not gh.half_period()
-    first = gh.first_half()
-    assert np.array_equal(first.samples, half[:6]) and 2 * 6 + 2 not in first.varying
 
 
-def test_sparse_monodromy_matches_the_full_samples():
-    """The monodromy from the varying entries equals Magnus on the full interpolated samples."""
+@pytest.mark.parametrize("constant_entry", [False, True])
+def test_sparse_monodromy_matches_the_full_samples(constant_entry):
+    """The monodromy from the varying entries equals Magnus on the full interpolated samples;
+    an entry given among the varying ones but constant keeps its value exactly."""
     from periodyn.kernels.solvers.floquet import magnus6_product
     A = 0.1 * sparse_samples()
     gen = SampledGenerator.from_samples(A)
     steps, p, d = 8, A.shape[0], A.shape[1]
     full = np.einsum("gp,pij->gij", interpolation_matrix(p, steps), A)
-    ref = np.empty((d, d))
+    varying, values = gen.varying, gen.values
+    if constant_entry:  # entry (2, 2) listed as varying with its constant samples
+        varying, values = np.append(varying, 2 * d + 2), np.hstack([values, np.full((p, 1), A[0, 2, 2])])
+        full[:, 2, 2] = A[0, 2, 2]
+    ref, phi = np.empty((d, d)), np.empty((d, d))
     magnus6_product(np.ascontiguousarray(full), 1.0 / steps, ref)
-    assert np.allclose(gen.monodromy(steps, 1.0), ref, rtol=1e-13, atol=1e-13 * np.abs(ref).max())
+    sampled_monodromy(gen.constant, varying, values, steps, 1.0, phi)
+    assert np.allclose(phi, ref, rtol=1e-13, atol=1e-13 * np.abs(ref).max())
+
+
+def test_a_six_by_six_generator_matches_the_monodromy():
+    """More than one degree of freedom (LAPACK multipliers): a periodically varying 3-DOF system."""
+    rng = np.random.default_rng(2)
+    K, C, B = np.diag([1.0, 2.3, 4.1]) + 0.1 * rng.normal(size=(3, 3)), 0.03 * np.eye(3), 0.3 * rng.normal(size=(3, 3))
+
+    def A(t):
+        return np.block([[np.zeros((3, 3)), np.eye(3)], [-(K + B * np.cos(t)), -C]])
+
+    fl = flow_exponents(samples(A, 2 * np.pi, 24), 1.0)
+    ref = np.sort(np.abs(reference_multipliers(A, 2 * np.pi)))
+    assert fl is not None and np.allclose(np.sort(np.abs(fl.multipliers)), ref, rtol=1e-7)
 
 
 def duffing():
@@ -133,7 +159,7 @@ def test_ihb_auto_takes_the_flow_and_matches_the_linearized_monodromy(omega):
 @pytest.mark.parametrize("phi", [[[0.9, 0.3], [-0.4, 0.8]], [[2.0, 1.0], [1.0, 3.0]], [[1e8, 1.0], [0.0, 1e-8]],
                                  [[0.0, 0.0], [0.0, 0.0]], [[-1.0, 0.5], [0.0, -1.0]]])
 def test_two_by_two_eigenvalues_match_lapack(phi):
-    from periodyn.stability.orbit_flow import _eigvals
+    from periodyn.kernels.solvers.sampled_flow import _multipliers
     phi = np.array(phi)
-    got, ref = np.sort_complex(_eigvals(phi)), np.sort_complex(np.linalg.eigvals(phi))
+    got, ref = np.sort_complex(_multipliers(phi)), np.sort_complex(np.linalg.eigvals(phi))
     assert np.allclose(got, ref, rtol=1e-12, atol=1e-300)

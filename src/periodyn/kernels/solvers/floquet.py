@@ -6,8 +6,7 @@
 * ``magnus_product`` / ``magnus_monodromies``: the 4th-order Magnus integrator with two
   Gauss points per step, ``Phi <- exp(h/2 (A1 + A2) + sqrt(3)/12 h^2 [A2, A1]) Phi``,
   for one transition or for the monodromy matrices of many speeds at once;
-  ``magnus6_product``, ``sampled_magnus6`` (the generator as a constant matrix and its
-  varying entries) and ``magnus_monodromies(..., points=3)``: the 6th-order Magnus
+  ``magnus6_product`` and ``magnus_monodromies(..., points=3)``: the 6th-order Magnus
   integrator with three Gauss points per step (Blanes, Casas & Ros 2000, in the form of
   Blanes, Casas, Oteo & Ros 2009, eq. 253): with a1 = h A2, a2 = sqrt(15)/3 h (A3 - A1),
   a3 = 10/3 h (A3 - 2 A2 + A1), C1 = [a1, a2], C2 = -[a1, 2 a3 + C1] / 60,
@@ -260,25 +259,6 @@ def magnus6_product(A, h, phi):
 
     A: (3 steps, d, d) float64, the system matrix at the three Gauss points of each step;
     phi: (d, d) output, the transition matrix from the start (phi(0) = I)."""
-    _magnus_steps(A, h, phi, 3)
-
-
-@njit(cache=True)
-def sampled_magnus6(constant, varying, values, weights, h, phi):
-    """magnus6_product of a generator kept as a constant matrix and the entries that vary.
-
-    constant: (d, d) float64; varying: (v,) int64 flat indices into it; values: (p, v) their
-    samples; weights: (3 steps, p) interpolation weights of the samples at the Gauss points
-    of equal steps h (s); phi: (d, d) output, the transition matrix over the steps."""
-    g, d = weights.shape[0], constant.shape[0]
-    A = np.empty((g, d, d))
-    for k in range(g):
-        A[k] = constant
-        for j in range(varying.shape[0]):
-            s = 0.0
-            for i in range(values.shape[0]):
-                s += weights[k, i] * values[i, j]
-            A[k, varying[j] // d, varying[j] % d] = s
     _magnus_steps(A, h, phi, 3)
 
 
