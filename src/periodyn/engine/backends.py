@@ -2,8 +2,11 @@
 processes ("processes", fork server where available) or on a Dask cluster ("dask").
 Each backend yields finished chunks (result columns, see :meth:`Job.solve`) in any order;
 the Dask one lives in :mod:`periodyn.engine.cluster`.
-With local processes, the calling process is one of the ``workers``: it solves chunks
-while the others start, so a short sweep never waits for them.
+With local processes, the calling process solves chunks only until the first of the
+``workers`` worker processes is up (a short sweep never waits for them), then only
+collects: each worker writes its chunks' checkpoint files where it solves them
+(``job.writer``) and sends back a small receipt, so the calling process does no per-point
+work while the workers solve.
 
 Local worker processes start with one Numba/BLAS/OpenMP thread each (environment set
 before they import numpy; Dask workers started by ``scheduler="local"`` too; on an
@@ -63,7 +66,7 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    """The chunk's results, or with ``job.writer`` (streamed results) written here and a receipt."""
+    """The chunk's results, or with ``job.writer`` (the sweep's checkpoint) written here and a receipt."""
     chunk = _WORKER_JOB.solve(indices)
     if _WORKER_JOB.writer is None:
         return chunk
@@ -156,6 +159,26 @@ class _Pool:
             if self.orphaned:
                 self._stop(wait=False)
 
+    def up(self) -> bool:
+        """Whether a worker is up (a pool that failed to start never is: this process goes on alone)."""
+        ready = self.ready
+        return ready is not None and ready.done() and not ready.cancelled() and ready.exception() is None
+
+    def collected(self) -> Iterator:
+        """The futures of the chunks the workers solve, as they complete (this process waits
+        in between, using no CPU)."""
+        while True:
+            with self.lock:
+                fed, busy = self.fed, list(self.submitted)
+            yield from self.finished()
+            if fed:
+                break
+            if busy:
+                wait(busy, timeout=10 * _POLL, return_when=FIRST_COMPLETED)
+            else:
+                time.sleep(_POLL)
+        yield from self.remaining()
+
     def take(self) -> np.ndarray | None:
         """The next chunk for this process, or None when the workers have all the rest."""
         with self.lock:
@@ -214,6 +237,9 @@ class _Pool:
 #: imports periodyn and loads the compiled kernels; later pools fork from it. The values are
 #: priors until a pool of this process has been timed, then the latest measurement.
 START_COST = {"first": 2.0, "later": 0.2}
+#: Measured chunk times were 0.8-2.9 times their estimate (:meth:`periodyn.speeds.SpeedSolver.speed_costs`):
+#: workers start without timing chunks first where they pay even at this fraction of the estimate.
+ESTIMATE_LOW = 0.5
 _STARTED: list[bool] = []  # a pool was started in this process
 _SERVER_SINCE: list[float] = []  # when this process started the fork server ahead of its first pool
 
@@ -279,10 +305,10 @@ def _start_cost() -> float:
 
 
 def _worth_starting(left: float, chunk_seconds: float, workers: int) -> bool:
-    """Whether ``workers - 1`` more processes would finish the chunks left (``left``
+    """Whether ``workers`` worker processes would finish the chunks left (``left``
     estimated seconds, chunks of about ``chunk_seconds``) sooner than this process alone.
     This process keeps solving while they start (:data:`START_COST`); the work left then
-    is shared by ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
+    is shared by the ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
     that must exceed the expected wait for the last chunk sent to a worker (half a chunk)."""
     return (left - _start_cost()) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
 
@@ -299,46 +325,51 @@ def _record_start(pool: "_Pool", closed: float) -> None:
 
 
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
-    """``workers`` processes, this one included. This process (one thread, as the serial
-    path) solves the last two chunks first and times the second; the rest is estimated
-    from that time scaled by the chunks' estimated costs (:meth:`Job.point_costs`: at low
-    speeds a chunk may cost many times the last one). Unless ``workers - 1`` more
-    processes would finish the rest sooner, counting their measured start
-    (:func:`_worth_starting`), it solves them alone, else the local worker processes take
-    chunks from the front while it solves chunks from the back, so a short sweep never
-    waits for the workers to start (``execution.eager_workers``: start them whatever the
-    estimate). The fork server of the first pool starts at once where the chunks are
-    estimated to take longer than its start (:func:`start_server_early`)."""
+    """``workers`` local worker processes. Where the chunks' estimated costs
+    (:meth:`Job.point_costs`) make the workers pay even at :data:`ESTIMATE_LOW` times the
+    estimate (:func:`_worth_starting`), they start at once (``execution.eager_workers``:
+    whatever the estimate). Otherwise this process (one thread, as the serial path) solves
+    the last two chunks first and times the second; the rest is estimated from that time
+    scaled by the chunks' estimated costs (at low speeds a chunk may cost many times the
+    last one), and unless the workers would finish the rest sooner, counting their measured
+    start, it solves them alone. Once started, the workers take chunks from the front while
+    this process solves chunks from the back until the first worker is up, so a short sweep
+    never waits for them; from then on it only collects what the workers finish. The fork
+    server of the first pool starts at once where the chunks are estimated to take longer
+    than its start (:func:`start_server_early`)."""
     costs = [float(job.point_costs(c).sum()) for c in chunks]  # estimated seconds per chunk
     if len(chunks) > 2 and sum(costs) >= START_COST["first"]:
         start_server_early()
-    with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
-        yield job.solve(chunks[-1])
-        seconds = 0.0
-        if len(chunks) > 1:
-            start = time.perf_counter()
-            yield job.solve(chunks[-2])
-            seconds = time.perf_counter() - start
-    if len(chunks) <= 2:
-        return
-    left = seconds * sum(costs[:-2]) / costs[-2]
-    if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
-        yield from run_serial(job, chunks[:-2], workers, execution)
-        return
+    at_once = len(chunks) > 2 and (execution.eager_workers
+                                   or _worth_starting(ESTIMATE_LOW * sum(costs), ESTIMATE_LOW * max(costs), workers))
+    if not at_once:
+        with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
+            yield job.solve(chunks[-1])
+            seconds = 0.0
+            if len(chunks) > 1:
+                start = time.perf_counter()
+                yield job.solve(chunks[-2])
+                seconds = time.perf_counter() - start
+        if len(chunks) <= 2:
+            return
+        chunks, left = chunks[:-2], seconds * sum(costs[:-2]) / costs[-2]
+        if not _worth_starting(left, left / len(chunks), workers):
+            yield from run_serial(job, chunks, workers, execution)
+            return
     start_server_early()  # here, not in the pool's thread, which cannot set signals
     _ensure_server()
-    pool = _Pool(job, chunks[:-2], workers - 1)
+    pool = _Pool(job, chunks, workers)
     done = False
     try:
         with one_thread():
-            while True:
+            while not pool.up():
                 for future in pool.finished():
                     yield future.result()
                 chunk = pool.take()
                 if chunk is None:
                     break
                 yield job.solve(chunk)
-        for future in pool.remaining():
+        for future in pool.collected():
             yield future.result()
         done = True
     finally:

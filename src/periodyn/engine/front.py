@@ -5,9 +5,10 @@ chunks; a :class:`~periodyn.engine.job.Job` solves each chunk (the speeds at one
 point together by :meth:`periodyn.speeds.SpeedSolver.solve_many`, point by point with
 :func:`periodyn.speeds.solve_point` for callable models) on a backend
 (:mod:`periodyn.engine.backends`: this process, local worker processes, or Dask); the
-parent collects finished chunks, checkpoints each into ``<out>.parts/``
-(:mod:`periodyn.engine.checkpoint`) and at the end writes one result file laid out by
-:func:`periodyn.results.to_dataset`.
+chunks are checkpointed into ``<out>.parts/`` (:mod:`periodyn.engine.checkpoint`; by
+local worker processes themselves, in a temporary folder without ``out``, the parent
+receiving only receipts and merging the parts once at the end) and one result file laid
+out by :func:`periodyn.results.to_dataset` is written at the end.
 
 Every path runs one BLAS/Numba thread per process (:mod:`periodyn.engine.threads`), so
 serial, parallel and distributed results are bit-identical. A point whose solver fails,
@@ -17,9 +18,11 @@ or whose result holds a non-finite number, is a failed point (NaN, ``status = 1`
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
@@ -177,15 +180,23 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
-        if streamed and backend == "processes":
-            job.writer = checkpoint  # the workers write their chunks (receipts come back)
-        with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-            for chunk in BACKENDS[backend](job, chunks, workers, execution):
-                collected.add(chunk)
-                if checkpoint is not None and "written" not in chunk:
-                    checkpoint.write(chunk)
-                bar.update(len(chunk["index"]))
-                check_interrupt()
+        with contextlib.ExitStack() as scratch:
+            if backend == "processes":  # the workers write their chunks (receipts come back)
+                job.writer = checkpoint if checkpoint is not None else _scratch_checkpoint(scratch, job)
+            with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
+                for chunk in BACKENDS[backend](job, chunks, workers, execution):
+                    if "written" not in chunk:  # solved in this process
+                        if checkpoint is not None:
+                            checkpoint.write(chunk)
+                        collected.add(chunk)
+                    elif streamed:
+                        collected.add(chunk)
+                    bar.update(len(chunk["index"]))
+                    check_interrupt()
+            if job.writer is not None and not streamed:  # the workers' chunks, merged once
+                for chunk in job.writer.chunks():
+                    collected.add(chunk)
+            job.writer = None
 
         failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
@@ -206,6 +217,13 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
+
+
+def _scratch_checkpoint(scratch: contextlib.ExitStack, job: Job) -> Checkpoint:
+    """Checkpoint files in a temporary folder (removed on leaving ``scratch``) for the
+    workers' chunks of a sweep that writes no result file."""
+    folder = Path(scratch.enter_context(tempfile.TemporaryDirectory(prefix="periodyn-sweep-")))
+    return Checkpoint(folder / "sweep.nc", "unsaved sweep", False, job.coordinates)
 
 
 def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:
