@@ -42,7 +42,8 @@ from .threads import worker_environment
 __all__ = ["BACKENDS", "run_serial", "run_processes", "start_server_early"]
 
 _WORKER_JOB: Job | None = None
-_POLL = 0.005  # s between checks of the pool-feeding thread
+_POLL = 0.005  # s between checks for the first submission while collecting
+_IDLE = 1.0  # s at most that the pool-feeding thread sleeps without news (it is woken by every change)
 
 
 def _exit_with_parent() -> None:
@@ -118,12 +119,22 @@ class _Pool:
         self.ready_after: float | None = None  # s from creation until a worker was up
         self.error: BaseException | None = None
         self.fed = self.orphaned = False  # the feeding thread has ended; closed while the pool was starting
+        self.changed = threading.Event()  # wakes the feeding thread: a worker up, a chunk done or taken, closed
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
 
     def _up(self, _future) -> None:
         self.ready_after = time.perf_counter() - self.created
+        self.changed.set()
+
+    def _news(self, _future=None) -> None:
+        self.changed.set()
+
+    def _await_news(self) -> None:
+        """Sleep until something changed (the caller checks what), without polling."""
+        self.changed.wait(_IDLE)
+        self.changed.clear()
 
     def _left(self) -> bool:
         with self.lock:
@@ -136,19 +147,20 @@ class _Pool:
                                                 initializer=_init_worker, initargs=(payload,))
                 self.ready = self.pool.submit(_ready)
                 self.ready.add_done_callback(self._up)
-            while self._left() and wait([self.ready], timeout=_POLL).not_done:
-                pass
+            while self._left() and not self.ready.done():
+                self._await_news()
             while self._left():
                 with self.lock:
                     busy = [f for f in self.submitted if not f.done()]
                 if len(busy) >= 2 * self.processes:
-                    wait(busy, timeout=_POLL, return_when=FIRST_COMPLETED)
+                    self._await_news()
                     continue
                 with self.lock:
                     if self.front >= self.back:
                         return
                     i, self.front = self.front, self.front + 1
                 future = self.pool.submit(_solve_in_worker, self.chunks[i])
+                future.add_done_callback(self._news)
                 with self.lock:
                     self.submitted.append(future)
         except BaseException as exc:  # re-raised in the sweep's thread
@@ -174,13 +186,14 @@ class _Pool:
             if fed:
                 break
             if busy:
-                wait(busy, timeout=10 * _POLL, return_when=FIRST_COMPLETED)
+                wait(busy, timeout=_IDLE, return_when=FIRST_COMPLETED)
             else:
                 time.sleep(_POLL)
         yield from self.remaining()
 
     def take(self) -> np.ndarray | None:
         """The next chunk for this process, or None when the workers have all the rest."""
+        self.changed.set()  # the feeding thread checks what is left
         with self.lock:
             if self.front < self.back:
                 self.back -= 1
@@ -216,6 +229,8 @@ class _Pool:
         with self.lock:
             self.back = self.front  # nothing more to submit
             up = self.ready is not None and self.ready.done()
+        self.changed.set()
+        with self.lock:
             if not (up or self.fed):  # still starting (the fork server may be loading): not waited for,
                 self.orphaned = True  # the feeding thread stops the pool once it has it
                 return
