@@ -5,8 +5,8 @@ the Dask one lives in :mod:`periodyn.engine.cluster`.
 With local processes, the calling process solves chunks only until the first of the
 ``workers`` worker processes is up (a short sweep never waits for them), then only
 collects: each worker writes its chunks' checkpoint files where it solves them
-(``job.writer``) and sends back a small receipt, so the calling process does no per-point
-work while the workers solve.
+(``job.writer``) and sends back the chunk (a receipt where results stream), so the
+calling process only stores what comes back (a few array copies per chunk).
 
 Local worker processes start with one Numba/BLAS/OpenMP thread each (environment set
 before they import numpy; Dask workers started by ``scheduler="local"`` too; on an
@@ -67,12 +67,15 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    """The chunk's results, or with ``job.writer`` (the sweep's checkpoint) written here and a receipt."""
+    """The chunk's results; with ``job.writer`` (the sweep's checkpoint) written here first and
+    marked ``written``, or only a receipt of them where the results stream (``job.streamed``).
+    The results come back rather than being read back from the checkpoint file: unpickling a
+    chunk and storing its columns costs the sweep's process about 0.15 ms, reading its file 6 ms."""
     chunk = _WORKER_JOB.solve(indices)
     if _WORKER_JOB.writer is None:
         return chunk
     _WORKER_JOB.writer.write(chunk)
-    return receipt(chunk)
+    return receipt(chunk) if _WORKER_JOB.streamed else {"written": np.True_, **chunk}
 
 
 

@@ -6,9 +6,8 @@ point together by :meth:`periodyn.speeds.SpeedSolver.solve_many`, point by point
 :func:`periodyn.speeds.solve_point` for callable models) on a backend
 (:mod:`periodyn.engine.backends`: this process, local worker processes, or Dask); the
 chunks are checkpointed into ``<out>.parts/`` (:mod:`periodyn.engine.checkpoint`; by
-local worker processes themselves, in a temporary folder without ``out``, the parent
-receiving only receipts and merging the parts once at the end) and one result file laid
-out by :func:`periodyn.results.to_dataset` is written at the end.
+local worker processes themselves, where they are solved) and one result file laid out
+by :func:`periodyn.results.to_dataset` is written at the end.
 
 Every path runs one BLAS/Numba thread per process (:mod:`periodyn.engine.threads`), so
 serial, parallel and distributed results are bit-identical. A point whose solver fails,
@@ -182,24 +181,16 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
         with contextlib.ExitStack() as scratch:
-            if backend == "processes":  # the workers write their chunks (receipts come back)
-                job.writer = checkpoint if checkpoint is not None else _scratch_checkpoint(scratch, job)
-                if out is not None:
-                    scratch.callback(_warm_writer(scratch).join)
+            if backend == "processes" and checkpoint is not None:
+                job.writer, job.streamed = checkpoint, streamed  # the workers write their chunks' checkpoints
+                scratch.callback(_warm_writer(scratch).join)
             with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
                 for chunk in BACKENDS[backend](job, chunks, workers, execution):
-                    if "written" not in chunk:  # solved in this process
-                        if checkpoint is not None:
-                            checkpoint.write(chunk)
-                        collected.add(chunk)
-                    elif streamed:
-                        collected.add(chunk)
+                    if not chunk.pop("written", False) and checkpoint is not None:
+                        checkpoint.write(chunk)
+                    collected.add(chunk)
                     bar.update(len(chunk["index"]))
                     check_interrupt()
-            if job.writer is not None and not streamed:  # the workers' chunks, merged once
-                for chunk in job.writer.chunks():
-                    collected.add(chunk)
-            job.writer = None
 
         failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
@@ -220,13 +211,6 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
-
-
-def _scratch_checkpoint(scratch: contextlib.ExitStack, job: Job) -> Checkpoint:
-    """Checkpoint files in a temporary folder (removed on leaving ``scratch``) for the
-    workers' chunks of a sweep that writes no result file."""
-    folder = Path(scratch.enter_context(tempfile.TemporaryDirectory(prefix="periodyn-sweep-")))
-    return Checkpoint(folder / "sweep.nc", "unsaved sweep", False, job.coordinates)
 
 
 def _warm_writer(scratch: contextlib.ExitStack) -> threading.Thread:
