@@ -78,7 +78,6 @@ def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
     return receipt(chunk) if _WORKER_JOB.streamed else {"written": np.True_, **chunk}
 
 
-
 def run_serial(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
     with one_thread():  # for the whole run: entering costs a scan of the loaded libraries
         for chunk in chunks:
@@ -395,7 +394,6 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
         pool.close(abandoned=not done)
         if done:
             _record_start(pool, time.perf_counter() - closing)
-
 
 
 BACKENDS = {"serial": run_serial, "processes": run_processes, "dask": run_dask}
