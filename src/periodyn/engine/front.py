@@ -51,6 +51,7 @@ __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "availabl
 _MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
 _MAX_CHUNKS = 2048  # larger sweeps take larger chunks: per-chunk costs (files, messages) stay bounded
 _CHUNKS_PER_WORKER = 8
+_CHUNK_SECONDS = 0.25  # estimated seconds of a chunk of cheap points: the sweep's process spends ~1 ms per chunk
 _BALANCED_SECONDS = 1.0  # estimated seconds of a sweep from which its chunks are of equal cost, not count
 
 
@@ -163,9 +164,9 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         pending = np.flatnonzero(~collected.done)
         # several chunks per worker balance the load: of equal count, or of about equal
         # estimated cost in a sweep long enough to gain from it (at low speeds a point may
-        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points (more
-        # beyond _MAX_CHUNKS chunks), an
-        # explicit chunk_size is taken as given
+        # cost 30x one at high speeds), of up to _MAX_CHUNK points or, for cheap points, about
+        # _CHUNK_SECONDS; the serial path takes chunks of _MAX_CHUNK points (more beyond
+        # _MAX_CHUNKS chunks), an explicit chunk_size is taken as given
         if backend != "serial":
             job.speed_cost = job.speed_costs()
         largest = max(_MAX_CHUNK, math.ceil(total / _MAX_CHUNKS))
@@ -173,6 +174,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
             chunks = split(pending, execution.chunk_size or largest)
         else:
             costs = job.point_costs(pending)
+            largest = max(largest, int(_CHUNK_SECONDS * len(costs) / max(costs.sum(), 1e-300)))
             per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
             size = max(1, min(largest, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
             chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
