@@ -217,6 +217,12 @@ def main() -> None:
               f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
               f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
               "(idle cores, no memory-bandwidth limit)")
+        pooled = [r for r in runs if r["backend"] == "processes"]
+        loop = max(pooled, key=lambda r: (r["points"], r["workers"]))
+        per_point = loop["overhead_cpu"] / loop["points"]
+        print(f"  the loop CPU ({per_point * 1e3:.4f} ms/point at N = {loop['points']}) runs while the workers solve: "
+              f"counted as serial above (an upper bound); as a pipeline it caps the sweep at "
+              f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
     print(f"\nload average at end {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
 
 
