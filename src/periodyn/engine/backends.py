@@ -180,12 +180,13 @@ class _Pool:
 
     def collected(self) -> Iterator:
         """The futures of the chunks the workers solve, as they complete (this process waits
-        in between, using no CPU)."""
+        in between, using no CPU); none, without waiting for the pool's start, when this
+        process took every chunk."""
         while True:
             with self.lock:
-                fed, busy = self.fed, list(self.submitted)
+                fed, busy, none = self.fed, list(self.submitted), self.back == 0
             yield from self.finished()
-            if fed:
+            if fed or none:
                 break
             if busy:
                 wait(busy, timeout=_IDLE, return_when=FIRST_COMPLETED)
