@@ -4,7 +4,23 @@
 sweeps/slider_crank_elements.toml) over a 2-parameter grid (Kelvin-Voigt time constant x
 rotary inertia of the rod) times speeds, for 1, 2, ... workers up to the cores present.
 
-Every sweep runs in a fresh process (as a user's ``periodyn sweep`` does; the interpreter's
+Two predictions of the efficiency at 16 workers are printed, from
+
+- FITTED: the wall times fitted by T(N, w) = a + N (s + p / w) (below). On a few cores
+  shared with other work the fit cannot tell serial work from contention for the cores:
+  both make T shrink less than 1/w, so both land in s.
+- MEASURED: the serial parts timed directly in the sweep's process: the wall time outside
+  the chunk loop (set-up: sweep file, model building, chunking; finish: merging the
+  chunks, writing the result file), the wall time from the loop's start until the first
+  worker was up (counted as serial although the calling process solves chunks meanwhile)
+  and the calling process's CPU time in the loop outside solving (collecting, progress,
+  checkpoints, feeding the pool; time.process_time, so a loaded machine does not inflate
+  it). Set-up and finish are taken as CPU time as well (they compute, they do not wait): the
+  finish and the loop's CPU outside solving are fitted by c + N s over the sizes;
+  a = c + the set-up + the wall time until the first worker was up; p is the solving CPU
+  time per point of the one-worker runs.
+
+Every sweep runs in a fresh process writing its result file (as a user's ``periodyn sweep`` does; the interpreter's
 imports are not timed, the first pool start and kernel loading are), twice for each size, the
 faster taken. For each sweep two sizes N are run, and the wall times T(N, w) are fitted by
 
@@ -36,23 +52,42 @@ import sys
 import numpy as np
 
 CHILD = r"""
-import json, sys, time
+import json, os, sys, tempfile, time
 import numpy as np
 from periodyn.engine import backends
+from periodyn.engine.job import Job
 from periodyn.engine.front import ExecutionOptions, sweep, sweep_file
 
 kind, points, workers = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-ready = []
+marks = {"solve_cpu": 0.0, "ready": None, "up_at": None}
+solve = Job.solve
+def timed_solve(self, indices):  # this process only: workers import Job from the fork server
+    cpu = time.process_time()
+    try:
+        return solve(self, indices)
+    finally:
+        marks["solve_cpu"] += time.process_time() - cpu
+Job.solve = timed_solve
 record = backends._record_start
-def timed(pool, closed):
-    ready.append(pool.ready_after)
+def timed_record(pool, closed):
+    if pool.ready_after is not None:
+        marks["ready"], marks["up_at"] = pool.ready_after, pool.created + pool.ready_after
     record(pool, closed)
-backends._record_start = timed
-start = time.perf_counter()
+backends._record_start = timed_record
+def timed_backend(run):
+    def timed(job, chunks, workers, execution):
+        marks["loop_start"], marks["loop_start_cpu"] = time.perf_counter(), time.process_time()
+        yield from run(job, chunks, workers, execution)  # the sweep's work between chunks counts too
+        marks["loop_end"], marks["loop_end_cpu"] = time.perf_counter(), time.process_time()
+    return timed
+for name in ("serial", "processes"):
+    backends.BACKENDS[name] = timed_backend(backends.BACKENDS[name])
+out = os.path.join(tempfile.mkdtemp(prefix="bench-scaling-"), "result.nc")  # written, as periodyn sweep does
+start, start_cpu = time.perf_counter(), time.process_time()
 if kind == "cardan":
     from periodyn.studies.spec import load_sweep_file
     spec = load_sweep_file(sys.argv[4])
-    ds = sweep_file(spec, omega=(0.05, 0.999, points), workers=workers, progress=False)
+    ds = sweep_file(spec, omega=(0.05, 0.999, points), workers=workers, progress=False, out=out)
 else:
     from periodyn.examples.slider_crank_rod import slider_crank_model
     from periodyn.model.linearization import omega_split
@@ -60,10 +95,14 @@ else:
         return omega_split(slider_crank_model(kelvin_voigt, 2, rotary_inertia_per_length), 64)
     grid = {"kelvin_voigt": [2.4e-5, 4.8e-5, 9.6e-5], "rotary_inertia_per_length": [0.0, 1e-6, 4e-6]}
     ds = sweep(rod, np.linspace(150.0, 300.0, points // 9), 12, 64, "magnus", parameters=grid,
-               workers=workers, progress=False)
-seconds = time.perf_counter() - start
-print(json.dumps({"seconds": seconds, "points": int(ds.attrs["points"]), "backend": ds.attrs["backend"],
-                  "ready": ready[0] if ready else None}))
+               workers=workers, progress=False, out=out)
+end, end_cpu = time.perf_counter(), time.process_time()
+window = marks["up_at"] - marks["loop_start"] if marks["up_at"] is not None else None
+print(json.dumps({"seconds": end - start, "points": int(ds.attrs["points"]), "backend": ds.attrs["backend"],
+                  "ready": marks["ready"], "window": window, "setup": marks["loop_start"] - start,
+                  "finish": end - marks["loop_end"], "setup_cpu": marks["loop_start_cpu"] - start_cpu,
+                  "finish_cpu": end_cpu - marks["loop_end_cpu"], "solve_cpu": marks["solve_cpu"],
+                  "overhead_cpu": marks["loop_end_cpu"] - marks["loop_start_cpu"] - marks["solve_cpu"]}))
 """
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -89,6 +128,30 @@ def fit(rows: list[tuple[int, int, float]]) -> tuple[float, float, float]:
     return float(a), float(s), float(p)
 
 
+def measured(runs: list[dict]) -> tuple[float, float, float, str] | None:
+    """(a, s, p, how) measured directly, not fitted to wall times, from the runs with worker
+    processes: the calling process's CPU seconds in the chunk loop outside solving (collecting,
+    progress, checkpoints, feeding the pool, warming the result writer) plus its finish (merging,
+    writing the file), fitted by c + N s over their sizes (with one size or a negative fit, all of
+    it counted per point at the largest N: conservative); a = c + the mean set-up CPU seconds +
+    the mean wall time until the first worker was up; p the solving CPU seconds per point of the
+    one-worker runs."""
+    pooled = [r for r in runs if r["backend"] == "processes" and r["window"] is not None]
+    single = [r for r in runs if r["workers"] == 1]
+    if not pooled or not single:
+        return None
+    late = np.array([r["finish_cpu"] + r["overhead_cpu"] for r in pooled])
+    n = np.array([r["points"] for r in pooled], dtype=float)
+    fixed = float(np.mean([r["setup_cpu"] + r["window"] for r in pooled]))
+    p = float(np.mean([r["solve_cpu"] / r["points"] for r in single]))
+    if len(set(n)) > 1:
+        (c, s), *_ = np.linalg.lstsq(np.stack([np.ones_like(n), n], axis=1), late, rcond=None)
+        if s >= 0 and c >= 0:
+            return fixed + float(c), float(s), p, "finish and loop CPU fitted over N"
+    i = int(np.argmax(n))
+    return fixed, late[i] / n[i], p, "finish and loop CPU all counted per point (conservative)"
+
+
 def efficiency(a: float, s: float, p: float, n: float, w: int) -> float:
     return (a + n * (s + p)) / (w * (a + n * (s + p / w)))
 
@@ -110,31 +173,56 @@ def main() -> None:
         if args.only and kind != args.only:
             continue
         print(f"\n{title}")
-        print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9}")
-        rows = []
+        print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9} "
+              f"{'set-up s':>8} {'(CPU)':>6} {'first up s':>10} {'finish s':>8} {'(CPU)':>6} {'loop CPU ms/pt':>14}")
+        rows, runs = [], []
         for n in (int(round(size * args.scale)) for size in sizes):
             t1 = None
             for w in range(1, cores + 1):
                 r = run(kind, n, w, args.repeats)
+                r["workers"] = w
                 t1 = r["seconds"] if w == 1 else t1
                 rows.append((r["points"], w, r["seconds"]))
+                runs.append(r)
                 ready = f"{r['ready']:9.2f}" if r["ready"] is not None else f"{'-':>9}"
+                window = f"{r['window']:10.2f}" if r["window"] is not None else f"{'-':>10}"
                 print(f"{r['points']:>7} {w:>7} {r['seconds']:8.2f} {r['points'] / r['seconds']:9.1f} "
-                      f"{t1 / (w * r['seconds']):10.1%} {ready}", flush=True)
+                      f"{t1 / (w * r['seconds']):10.1%} {ready} {r['setup']:8.2f} {r['setup_cpu']:6.2f} {window} "
+                      f"{r['finish']:8.2f} {r['finish_cpu']:6.2f} {1e3 * r['overhead_cpu'] / r['points']:14.4f}",
+                      flush=True)
         a, s, p = fit(rows)
         largest = max(n for n, _, _ in rows)
         f = s / (s + p) if s + p else float("nan")
-        print(f"fit T = a + N (s + p/w): start cost a = {a:.2f} s, serial s = {s * 1e3:.3f} ms/point, "
-              f"parallel p = {p * 1e3:.3f} ms/point, serial fraction f = {f:.3%}")
+        print(f"FITTED to wall times, T = a + N (s + p/w): start cost a = {a:.2f} s, serial s = {s * 1e3:.3f} "
+              f"ms/point, parallel p = {p * 1e3:.3f} ms/point, serial fraction f = {f:.3%}")
         if s < 0 or p <= 0 or a < 0:
-            print("the fit is not physical (a coefficient is negative): the timings are dominated by other load "
+            print("  the fit is not physical (a coefficient is negative): the timings are dominated by other load "
                   "or by noise; rerun on idle cores, with --scale for longer sweeps")
+        else:
+            print(f"  predicted efficiency at 16 workers: {efficiency(a, s, p, largest, 16):.1%} at N = {largest}, "
+                  f"{efficiency(a, s, p, issue_size, 16):.1%} at N = {issue_size} "
+                  f"(T1 = {a + issue_size * (s + p):.0f} s)")
+        print(f"  (with {cores} workers on {cores} cores, and other load, the fitted s also holds the contention "
+              "of the processes for the cores, not only serial work)")
+        direct = measured(runs)
+        if direct is None:
+            print("MEASURED: needs runs with worker processes at two sizes and a one-worker run")
             continue
-        print(f"predicted efficiency at 16 workers: {efficiency(a, s, p, largest, 16):.1%} at N = {largest}, "
-              f"{efficiency(a, s, p, issue_size, 16):.1%} at N = {issue_size} "
-              f"(T1 = {a + issue_size * (s + p):.0f} s); Amdahl limit of f alone {1 / (16 * f + 1 - f):.1%}"
-              if f > 0 else f"predicted efficiency at 16 workers: {efficiency(a, s, p, largest, 16):.1%} at N = "
-              f"{largest}, {efficiency(a, s, p, issue_size, 16):.1%} at N = {issue_size} (fitted f <= 0)")
+        am, sm, pm, how = direct
+        print(f"MEASURED directly (the calling process's CPU outside solving, {how}; a also holds the wall time "
+              f"until the first worker was up; p: the one-worker runs' solving CPU): start cost a = {am:.2f} s, "
+              f"serial s = {sm * 1e3:.4f} ms/point, parallel p = {pm * 1e3:.3f} ms/point, "
+              f"serial fraction f = {sm / (sm + pm):.3%}")
+        print(f"  predicted efficiency at 16 workers: {efficiency(am, sm, pm, largest, 16):.1%} at N = {largest}, "
+              f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
+              f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
+              "(idle cores, no memory-bandwidth limit)")
+        pooled = [r for r in runs if r["backend"] == "processes"]
+        loop = max(pooled, key=lambda r: (r["points"], r["workers"]))
+        per_point = loop["overhead_cpu"] / loop["points"]
+        print(f"  the loop CPU ({per_point * 1e3:.4f} ms/point at N = {loop['points']}) runs while the workers solve: "
+              f"counted as serial above (an upper bound); as a pipeline it caps the sweep at "
+              f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
     print(f"\nload average at end {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
 
 

@@ -1,7 +1,8 @@
 """Results streamed to the output (OutputOptions(stream=True)): the file written block by
 block from the checkpoint chunks equals, value for value and attribute for attribute, the one
 assembled in memory, with failed points (their messages), a parameter grid, blocks that cut
-across chunks, and a resume after an interrupt."""
+across chunks, and a resume after an interrupt; local workers write their own chunks, streamed
+or not."""
 
 from __future__ import annotations
 
@@ -108,4 +109,18 @@ def test_streamed_on_dask_equals_serial(tmp_path):
     out = tmp_path / "dask.nc"
     sweep(model, OMEGA, 4, workers=2, out=out, progress=False, output=OutputOptions(stream=True),
           execution=ExecutionOptions("local", 3))
+    xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))
+
+
+def test_local_workers_write_their_chunks_unstreamed_and_the_file_equals_serial(tmp_path):
+    """Not streamed, on local worker processes: the workers write their chunks' checkpoint files
+    and send the chunks back; the result and its file equal the serial sweep's, with failed
+    points and a parameter grid; no parts are left."""
+    chunks = ExecutionOptions(chunk_size=2)  # the same chunks (a failed batch's message says so)
+    serial = sweep(flaky, OMEGA, 4, parameters=GRID, progress=False, execution=chunks)
+    out = tmp_path / "workers.nc"
+    saved = sweep(flaky, OMEGA, 4, parameters=GRID, workers=2, out=out, progress=False,
+                  execution=ExecutionOptions(chunk_size=2, eager_workers=True), output=OutputOptions(stream=False))
+    assert saved.attrs["backend"] == "processes" and not out.with_name(out.name + ".parts").exists()
+    xr.testing.assert_identical(without_attrs(saved), without_attrs(serial))
     xr.testing.assert_identical(without_attrs(load(out)), without_attrs(serial))

@@ -2,8 +2,11 @@
 processes ("processes", fork server where available) or on a Dask cluster ("dask").
 Each backend yields finished chunks (result columns, see :meth:`Job.solve`) in any order;
 the Dask one lives in :mod:`periodyn.engine.cluster`.
-With local processes, the calling process is one of the ``workers``: it solves chunks
-while the others start, so a short sweep never waits for them.
+With local processes, the calling process solves chunks only until the first of the
+``workers`` worker processes is up (a short sweep never waits for them), then only
+collects: each worker writes its chunks' checkpoint files where it solves them
+(``job.writer``) and sends back the chunk (a receipt where results stream), so the
+calling process only stores what comes back (a few array copies per chunk).
 
 Local worker processes start with one Numba/BLAS/OpenMP thread each (environment set
 before they import numpy; Dask workers started by ``scheduler="local"`` too; on an
@@ -39,7 +42,8 @@ from .threads import worker_environment
 __all__ = ["BACKENDS", "run_serial", "run_processes", "start_server_early"]
 
 _WORKER_JOB: Job | None = None
-_POLL = 0.005  # s between checks of the pool-feeding thread
+_POLL = 0.005  # s between checks for the first submission while collecting
+_IDLE = 1.0  # s at most that the pool-feeding thread sleeps without news (it is woken by every change)
 
 
 def _exit_with_parent() -> None:
@@ -63,13 +67,15 @@ def _init_worker(payload: bytes) -> None:
 
 
 def _solve_in_worker(indices: np.ndarray) -> dict[str, np.ndarray]:
-    """The chunk's results, or with ``job.writer`` (streamed results) written here and a receipt."""
+    """The chunk's results; with ``job.writer`` (the sweep's checkpoint) written here first and
+    marked ``written``, or only a receipt of them where the results stream (``job.streamed``).
+    The results come back rather than being read back from the checkpoint file: unpickling a
+    chunk and storing its columns costs the sweep's process about 0.15 ms, reading its file 6 ms."""
     chunk = _WORKER_JOB.solve(indices)
     if _WORKER_JOB.writer is None:
         return chunk
     _WORKER_JOB.writer.write(chunk)
-    return receipt(chunk)
-
+    return receipt(chunk) if _WORKER_JOB.streamed else {"written": np.True_, **chunk}
 
 
 def run_serial(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
@@ -115,12 +121,22 @@ class _Pool:
         self.ready_after: float | None = None  # s from creation until a worker was up
         self.error: BaseException | None = None
         self.fed = self.orphaned = False  # the feeding thread has ended; closed while the pool was starting
+        self.changed = threading.Event()  # wakes the feeding thread: a worker up, a chunk done or taken, closed
         self.thread = threading.Thread(target=self._feed, args=(cloudpickle.dumps(job),), name="periodyn-pool-start",
                                        daemon=True)
         self.thread.start()
 
     def _up(self, _future) -> None:
         self.ready_after = time.perf_counter() - self.created
+        self.changed.set()
+
+    def _news(self, _future=None) -> None:
+        self.changed.set()
+
+    def _await_news(self) -> None:
+        """Sleep until something changed (the caller checks what), without polling."""
+        self.changed.wait(_IDLE)
+        self.changed.clear()
 
     def _left(self) -> bool:
         with self.lock:
@@ -133,19 +149,20 @@ class _Pool:
                                                 initializer=_init_worker, initargs=(payload,))
                 self.ready = self.pool.submit(_ready)
                 self.ready.add_done_callback(self._up)
-            while self._left() and wait([self.ready], timeout=_POLL).not_done:
-                pass
+            while self._left() and not self.ready.done():
+                self._await_news()
             while self._left():
                 with self.lock:
                     busy = [f for f in self.submitted if not f.done()]
                 if len(busy) >= 2 * self.processes:
-                    wait(busy, timeout=_POLL, return_when=FIRST_COMPLETED)
+                    self._await_news()
                     continue
                 with self.lock:
                     if self.front >= self.back:
                         return
                     i, self.front = self.front, self.front + 1
                 future = self.pool.submit(_solve_in_worker, self.chunks[i])
+                future.add_done_callback(self._news)
                 with self.lock:
                     self.submitted.append(future)
         except BaseException as exc:  # re-raised in the sweep's thread
@@ -156,8 +173,30 @@ class _Pool:
             if self.orphaned:
                 self._stop(wait=False)
 
+    def up(self) -> bool:
+        """Whether a worker is up (a pool that failed to start never is: this process goes on alone)."""
+        ready = self.ready
+        return ready is not None and ready.done() and not ready.cancelled() and ready.exception() is None
+
+    def collected(self) -> Iterator:
+        """The futures of the chunks the workers solve, as they complete (this process waits
+        in between, using no CPU); none, without waiting for the pool's start, when this
+        process took every chunk."""
+        while True:
+            with self.lock:
+                fed, busy, none = self.fed, list(self.submitted), self.back == 0
+            yield from self.finished()
+            if fed or none:
+                break
+            if busy:
+                wait(busy, timeout=_IDLE, return_when=FIRST_COMPLETED)
+            else:
+                time.sleep(_POLL)
+        yield from self.remaining()
+
     def take(self) -> np.ndarray | None:
         """The next chunk for this process, or None when the workers have all the rest."""
+        self.changed.set()  # the feeding thread checks what is left
         with self.lock:
             if self.front < self.back:
                 self.back -= 1
@@ -193,6 +232,8 @@ class _Pool:
         with self.lock:
             self.back = self.front  # nothing more to submit
             up = self.ready is not None and self.ready.done()
+        self.changed.set()
+        with self.lock:
             if not (up or self.fed):  # still starting (the fork server may be loading): not waited for,
                 self.orphaned = True  # the feeding thread stops the pool once it has it
                 return
@@ -214,6 +255,9 @@ class _Pool:
 #: imports periodyn and loads the compiled kernels; later pools fork from it. The values are
 #: priors until a pool of this process has been timed, then the latest measurement.
 START_COST = {"first": 2.0, "later": 0.2}
+#: Measured chunk times were 0.8-2.9 times their estimate (:meth:`periodyn.speeds.SpeedSolver.speed_costs`):
+#: workers start without timing chunks first where they pay even at this fraction of the estimate.
+ESTIMATE_LOW = 0.5
 _STARTED: list[bool] = []  # a pool was started in this process
 _SERVER_SINCE: list[float] = []  # when this process started the fork server ahead of its first pool
 
@@ -279,10 +323,10 @@ def _start_cost() -> float:
 
 
 def _worth_starting(left: float, chunk_seconds: float, workers: int) -> bool:
-    """Whether ``workers - 1`` more processes would finish the chunks left (``left``
+    """Whether ``workers`` worker processes would finish the chunks left (``left``
     estimated seconds, chunks of about ``chunk_seconds``) sooner than this process alone.
     This process keeps solving while they start (:data:`START_COST`); the work left then
-    is shared by ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
+    is shared by the ``workers`` processes, which saves ``(left - start) (1 - 1/workers)``;
     that must exceed the expected wait for the last chunk sent to a worker (half a chunk)."""
     return (left - _start_cost()) * (1.0 - 1.0 / workers) > 0.5 * chunk_seconds
 
@@ -299,46 +343,51 @@ def _record_start(pool: "_Pool", closed: float) -> None:
 
 
 def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: ExecutionOptions) -> Iterator[dict]:
-    """``workers`` processes, this one included. This process (one thread, as the serial
-    path) solves the last two chunks first and times the second; the rest is estimated
-    from that time scaled by the chunks' estimated costs (:meth:`Job.point_costs`: at low
-    speeds a chunk may cost many times the last one). Unless ``workers - 1`` more
-    processes would finish the rest sooner, counting their measured start
-    (:func:`_worth_starting`), it solves them alone, else the local worker processes take
-    chunks from the front while it solves chunks from the back, so a short sweep never
-    waits for the workers to start (``execution.eager_workers``: start them whatever the
-    estimate). The fork server of the first pool starts at once where the chunks are
-    estimated to take longer than its start (:func:`start_server_early`)."""
+    """``workers`` local worker processes. Where the chunks' estimated costs
+    (:meth:`Job.point_costs`) make the workers pay even at :data:`ESTIMATE_LOW` times the
+    estimate (:func:`_worth_starting`), they start at once (``execution.eager_workers``:
+    whatever the estimate). Otherwise this process (one thread, as the serial path) solves
+    the last two chunks first and times the second; the rest is estimated from that time
+    scaled by the chunks' estimated costs (at low speeds a chunk may cost many times the
+    last one), and unless the workers would finish the rest sooner, counting their measured
+    start, it solves them alone. Once started, the workers take chunks from the front while
+    this process solves chunks from the back until the first worker is up, so a short sweep
+    never waits for them; from then on it only collects what the workers finish. The fork
+    server of the first pool starts at once where the chunks are estimated to take longer
+    than its start (:func:`start_server_early`)."""
     costs = [float(job.point_costs(c).sum()) for c in chunks]  # estimated seconds per chunk
     if len(chunks) > 2 and sum(costs) >= START_COST["first"]:
         start_server_early()
-    with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
-        yield job.solve(chunks[-1])
-        seconds = 0.0
-        if len(chunks) > 1:
-            start = time.perf_counter()
-            yield job.solve(chunks[-2])
-            seconds = time.perf_counter() - start
-    if len(chunks) <= 2:
-        return
-    left = seconds * sum(costs[:-2]) / costs[-2]
-    if not execution.eager_workers and not _worth_starting(left, left / (len(chunks) - 2), workers):
-        yield from run_serial(job, chunks[:-2], workers, execution)
-        return
+    at_once = len(chunks) > 2 and (execution.eager_workers
+                                   or _worth_starting(ESTIMATE_LOW * sum(costs), ESTIMATE_LOW * max(costs), workers))
+    if not at_once:
+        with one_thread():  # the first chunk also pays for one-off costs (kernels, solver): time the second
+            yield job.solve(chunks[-1])
+            seconds = 0.0
+            if len(chunks) > 1:
+                start = time.perf_counter()
+                yield job.solve(chunks[-2])
+                seconds = time.perf_counter() - start
+        if len(chunks) <= 2:
+            return
+        chunks, left = chunks[:-2], seconds * sum(costs[:-2]) / costs[-2]
+        if not _worth_starting(left, left / len(chunks), workers):
+            yield from run_serial(job, chunks, workers, execution)
+            return
     start_server_early()  # here, not in the pool's thread, which cannot set signals
     _ensure_server()
-    pool = _Pool(job, chunks[:-2], workers - 1)
+    pool = _Pool(job, chunks, workers)
     done = False
     try:
         with one_thread():
-            while True:
+            while not pool.up():
                 for future in pool.finished():
                     yield future.result()
                 chunk = pool.take()
                 if chunk is None:
                     break
                 yield job.solve(chunk)
-        for future in pool.remaining():
+        for future in pool.collected():
             yield future.result()
         done = True
     finally:
@@ -346,7 +395,6 @@ def run_processes(job: Job, chunks: list[np.ndarray], workers: int, execution: E
         pool.close(abandoned=not done)
         if done:
             _record_start(pool, time.perf_counter() - closing)
-
 
 
 BACKENDS = {"serial": run_serial, "processes": run_processes, "dask": run_dask}

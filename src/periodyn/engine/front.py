@@ -5,9 +5,9 @@ chunks; a :class:`~periodyn.engine.job.Job` solves each chunk (the speeds at one
 point together by :meth:`periodyn.speeds.SpeedSolver.solve_many`, point by point with
 :func:`periodyn.speeds.solve_point` for callable models) on a backend
 (:mod:`periodyn.engine.backends`: this process, local worker processes, or Dask); the
-parent collects finished chunks, checkpoints each into ``<out>.parts/``
-(:mod:`periodyn.engine.checkpoint`) and at the end writes one result file laid out by
-:func:`periodyn.results.to_dataset`.
+chunks are checkpointed into ``<out>.parts/`` (:mod:`periodyn.engine.checkpoint`; by
+local worker processes themselves, where they are solved) and one result file laid out
+by :func:`periodyn.results.to_dataset` is written at the end.
 
 Every path runs one BLAS/Numba thread per process (:mod:`periodyn.engine.threads`), so
 serial, parallel and distributed results are bit-identical. A point whose solver fails,
@@ -17,9 +17,12 @@ or whose result holds a non-finite number, is a failed point (NaN, ``status = 1`
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import sys
+import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
@@ -39,7 +42,7 @@ from ..stability.methods import method_named, stability_choice
 from .progress import Progress
 from .session import check_interrupt, sweep_guard
 from .stream import STREAM_POINTS, Tally, streamed_columns, write_streamed
-from ..results import load, options_attrs, package_versions, to_dataset
+from ..results import load, options_attrs, package_versions, save, to_dataset
 from ..system import OmegaSplitModel
 
 __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "available_cores", "auto_workers",
@@ -48,6 +51,7 @@ __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "availabl
 _MAX_CHUNK = 64  # points per chunk: checkpoint granularity (work lost at an interrupt) and load balance
 _MAX_CHUNKS = 2048  # larger sweeps take larger chunks: per-chunk costs (files, messages) stay bounded
 _CHUNKS_PER_WORKER = 8
+_CHUNK_SECONDS = 0.25  # estimated seconds of a chunk of cheap points: the sweep's process spends ~1 ms per chunk
 _BALANCED_SECONDS = 1.0  # estimated seconds of a sweep from which its chunks are of equal cost, not count
 
 
@@ -160,9 +164,9 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         pending = np.flatnonzero(~collected.done)
         # several chunks per worker balance the load: of equal count, or of about equal
         # estimated cost in a sweep long enough to gain from it (at low speeds a point may
-        # cost 30x one at high speeds); the serial path takes chunks of _MAX_CHUNK points (more
-        # beyond _MAX_CHUNKS chunks), an
-        # explicit chunk_size is taken as given
+        # cost 30x one at high speeds), of up to _MAX_CHUNK points or, for cheap points, about
+        # _CHUNK_SECONDS; the serial path takes chunks of _MAX_CHUNK points (more beyond
+        # _MAX_CHUNKS chunks), an explicit chunk_size is taken as given
         if backend != "serial":
             job.speed_cost = job.speed_costs()
         largest = max(_MAX_CHUNK, math.ceil(total / _MAX_CHUNKS))
@@ -170,6 +174,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
             chunks = split(pending, execution.chunk_size or largest)
         else:
             costs = job.point_costs(pending)
+            largest = max(largest, int(_CHUNK_SECONDS * len(costs) / max(costs.sum(), 1e-300)))
             per_chunk = costs.sum() / (_CHUNKS_PER_WORKER * workers)
             size = max(1, min(largest, math.ceil(len(pending) / (_CHUNKS_PER_WORKER * workers))))
             chunks = split(pending, size, costs, per_chunk if costs.sum() >= _BALANCED_SECONDS else np.inf)
@@ -177,15 +182,17 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
-        if streamed and backend == "processes":
-            job.writer = checkpoint  # the workers write their chunks (receipts come back)
-        with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-            for chunk in BACKENDS[backend](job, chunks, workers, execution):
-                collected.add(chunk)
-                if checkpoint is not None and "written" not in chunk:
-                    checkpoint.write(chunk)
-                bar.update(len(chunk["index"]))
-                check_interrupt()
+        with contextlib.ExitStack() as scratch:
+            if backend == "processes" and checkpoint is not None:
+                job.writer, job.streamed = checkpoint, streamed  # the workers write their chunks' checkpoints
+                scratch.callback(_warm_writer(scratch).join)
+            with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
+                for chunk in BACKENDS[backend](job, chunks, workers, execution):
+                    if not chunk.pop("written", False) and checkpoint is not None:
+                        checkpoint.write(chunk)
+                    collected.add(chunk)
+                    bar.update(len(chunk["index"]))
+                    check_interrupt()
 
         failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
@@ -206,6 +213,20 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
+
+
+def _warm_writer(scratch: contextlib.ExitStack) -> threading.Thread:
+    """A thread that writes a one-value result file into a temporary folder while the
+    workers solve: a process's first result file imports and sets up its writer (h5netcdf,
+    Dask's scheduler lookup: 0.2-0.3 s), which then no longer delays the sweep's end."""
+    folder = Path(scratch.enter_context(tempfile.TemporaryDirectory(prefix="periodyn-writer-")))
+    def write():
+        with contextlib.suppress(Exception):  # a failure costs only the time it would have saved
+            save(xr.Dataset({"warm": ("x", np.zeros(1))}), folder / "warm.nc")
+
+    thread = threading.Thread(target=write, name="periodyn-writer-warm-up", daemon=True)
+    thread.start()
+    return thread
 
 
 def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:

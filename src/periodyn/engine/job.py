@@ -102,7 +102,8 @@ class Job:
     n_exponents: int
     _solvers: dict = field(default_factory=dict, repr=False)  # per grid point, built where used
     speed_cost: np.ndarray | None = None  # estimated seconds per speed (speed_costs), where set
-    writer: Any = None  # streamed results on local workers: the Checkpoint they write their chunks to
+    writer: Any = None  # on local workers: the Checkpoint they write their chunks to
+    streamed: bool = False  # with writer: the workers send back receipts (stream.receipt), not the chunks
 
     def point_costs(self, indices: np.ndarray) -> np.ndarray:
         """Estimated seconds of the points with these flat indices: ``speed_cost`` of
