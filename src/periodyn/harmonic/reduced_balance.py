@@ -67,7 +67,7 @@ class ReducedBalance:
             self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
         self.samples = [synthesize(X[d + K], theta) for X in terms]  # each term at the P angles, (P, n, n)
-        self.means = [X[K].real for X in terms]  # their mean blocks (n, n)
+        self.mean_stack = np.stack([X[K].real for X in terms])  # their mean blocks, (Q, n, n)
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # (m+1, P)
@@ -102,13 +102,12 @@ class ReducedBalance:
         w^p per derivative, side by side (S, n, G n) (their harmonics are the samples'
         rounding noise, 1e-14 to 3e-13 of their largest entry)."""
         used = above_noise(self.mags, self.floors, self.exponents, w).any(axis=0)
-        constant: dict[int, np.ndarray] = {}
-        for t in np.flatnonzero(~used):
-            d = int(self.derivative[t])
-            constant[d] = constant.get(d, 0.0) + w[:, None, None] ** self.exponents[t] * self.means[t]
-        order = sorted(constant)
-        blocks = np.concatenate([constant[d] for d in order], axis=2) if order else np.zeros((w.size, self.n, 0))
-        return used, order, blocks
+        order = sorted({int(self.derivative[t]) for t in np.flatnonzero(~used)})
+        blocks = np.empty((w.size, self.n, len(order), self.n))
+        for g, d in enumerate(order):  # sum_t w^e_t Xbar_t over the terms t of derivative d, as one matrix product
+            t = np.flatnonzero(~used & (self.derivative == d))
+            blocks[:, :, g] = np.tensordot(w[:, None] ** self.exponents[t], self.mean_stack[t], 1)
+        return used, order, blocks.reshape(w.size, self.n, -1)
 
     def residual(self, w: np.ndarray, q: np.ndarray, f: np.ndarray, terms=None) -> np.ndarray:
         """f - W(w) q (S, m+1, n) of the full HB equations, harmonics a = 0..m, for the

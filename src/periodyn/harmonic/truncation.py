@@ -39,7 +39,7 @@ import scipy.linalg
 from ..numerics.spectra import half_synthesis, min_samples, sample_angles, synthesize
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
-           "SweepTruncation", "above_noise", "coefficient_terms", "noise_floors"]
+           "SweepTruncation", "above_noise", "coefficient_terms", "coefficient_tops", "noise_floors"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -278,6 +278,17 @@ def above_noise(mags: np.ndarray, floors: np.ndarray, exponents: np.ndarray, w: 
     above = (mags[:, k > 0] > FLOOR * floors[:, None]).any(axis=1) & (floors > 0)  # (Q,)
     largest = _NEGLIGIBLE * terms.sum(axis=1).max(axis=1)
     return above | (floors == 0) & (terms[:, :, k > 0] > largest[:, None, None]).any(axis=2)
+
+
+def coefficient_tops(mags: np.ndarray, floors: np.ndarray) -> np.ndarray:
+    """Highest harmonic |k| (Q,) of each term's harmonic magnitudes (Q, 2K+1) above FLOOR
+    times its noise floor (Q,) (:func:`noise_floors`; the harmonics above it are noise), or
+    above _NEGLIGIBLE of its largest where it has no floor."""
+    K = (mags.shape[1] - 1) // 2
+    k = np.abs(np.arange(2 * K + 1) - K)
+    above = np.where(floors[:, None] > 0, mags > FLOOR * floors[:, None],
+                     mags > _NEGLIGIBLE * mags.max(axis=1, keepdims=True))
+    return np.where(above, k, 0).max(axis=1)
 
 
 def noise_floors(mags: np.ndarray) -> np.ndarray:
