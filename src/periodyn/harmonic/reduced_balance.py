@@ -76,6 +76,14 @@ class ReducedBalance:
         self.mean_diagonals = [np.einsum("ni,nm,mi->i", Phi, X.mean(axis=0), Phi)
                                for X in (model.mass, *model.damping, *model.stiffness)]
         self._kept: dict[int, HarmonicOperator] = {}
+        self._stacked: dict[tuple[int, ...], np.ndarray] = {}
+
+    def stacked(self, taken: tuple[int, ...]) -> np.ndarray:
+        """The samples of the terms ``taken`` side by side, (P, n, T n) (one matrix product per
+        angle for all of them; built once per set of terms)."""
+        if taken not in self._stacked:
+            self._stacked[taken] = np.concatenate([self.samples[t] for t in taken], axis=2)
+        return self._stacked[taken]
 
     def kept_operator(self, k: int) -> HarmonicOperator:
         """The HB operator of the model projected on its k lowest mean modes."""
@@ -119,12 +127,13 @@ class ReducedBalance:
         jw = 1j * np.arange(self.m + 1)[None, :, None] * w[:, None, None]
         Z = np.concatenate([jw * jw * q, jw * q, q], axis=2)  # harmonics of q'', q', q, (S, m+1, 3n)
         y = np.matmul(self.real_synthesis, np.concatenate([Z.real, Z.imag], axis=1))  # their samples, (S, P, 3n)
-        r = np.zeros((self.P, n, S))
-        for t in np.flatnonzero(used):
-            d = self.derivative[t]
-            z = y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
-            r += np.matmul(self.samples[t], np.ascontiguousarray(z.transpose(1, 2, 0)))
-        out = f - np.einsum("aj,jns->san", self.analysis, r, optimize=True)
+        out = f.copy()
+        taken = tuple(int(t) for t in np.flatnonzero(used))
+        if taken:  # the samples of q'', w^p q' or w^p q of each term taken, (S, P, T n)
+            z = np.concatenate([y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
+                                for t in taken for d in [self.derivative[t]]], axis=2)
+            r = np.matmul(self.stacked(taken), np.ascontiguousarray(z.transpose(1, 2, 0)))  # (P, n, S)
+            out -= np.einsum("aj,jns->san", self.analysis, r, optimize=True)
         if order:  # a constant block's product with the harmonics, per harmonic
             Y = np.concatenate([Z[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, m+1, G n)
             mean = np.matmul(np.concatenate([Y.real, Y.imag], axis=1), blocks.transpose(0, 2, 1))
