@@ -100,6 +100,7 @@ class ReducedStability:
         self._ladders: dict[int, _Ladder] = {}
         self._couplings: dict[tuple[int, int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
+        self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
         _, self._mags, self._floors, self._exponents = coefficient_terms(self.M, self.C, self.K)
         self._tops = coefficient_tops(self._mags, self._floors)
         K0 = (self.M.shape[0] - 1) // 2  # the mean coefficients (of real samples: real), per omega-power (P, n, n)
@@ -177,6 +178,16 @@ class ReducedStability:
         return M[rows, cols], np.tensordot(w ** np.arange(len(C)), C[:, rows, cols], 1), \
             np.tensordot(w ** np.arange(len(K)), K[:, rows, cols], 1)
 
+    def truncated_blocks(self, w: float, k: int) -> np.ndarray:
+        """The mean truncated blocks at speed w side by side and transposed, [M_hh^T, C_hh^T,
+        K_hh^T] (n-k, 3(n-k)) (of :func:`~periodyn.stability.schur.truncated_solve`; their
+        omega-power terms kept contiguous per k)."""
+        if k not in self._truncated:
+            self._truncated[k] = tuple(np.ascontiguousarray(X[..., k:, k:].swapaxes(-1, -2)) for X in self._means)
+        M, C, K = self._truncated[k]
+        return np.concatenate([M, np.tensordot(w ** np.arange(len(C)), C, 1),
+                               np.tensordot(w ** np.arange(len(K)), K, 1)], axis=1)
+
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
         K0, h = (self.M.shape[0] - 1) // 2, np.arange(k, self.n)
@@ -196,7 +207,6 @@ class ReducedStability:
     def correction(self, lam: complex, w: float, m: int, k: int) -> tuple[complex, complex, str]:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
-        h = slice(k, self.n)
         terms = self.hill_terms(k, m)
         Pc = self.C.shape[-1]
         M = terms[0]
@@ -228,7 +238,7 @@ class ReducedStability:
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
         r, sh = self._coupled(w, k, m, s, x, y)  # s_h[b] = sum_a y_a^H Q_lh[a, b]
-        z = truncated_solve(*self._at(w, h, h), s, r)
+        z = truncated_solve(self.truncated_blocks(w, k), s, r)
         return lam, complex(np.einsum("ai,ai->", sh, z) / denom), ""
 
     def certify(self, w: float, m: int, k: int, exps: np.ndarray, error: float):
