@@ -256,7 +256,7 @@ class SpeedSolver:
         if self.reduced_balance:  # its samples; dense Hill (a speed "reduced" hands on) takes sub-chunks
             per_speed = 16 * (self.pattern.band + 2 * self.m + 1) * self.model.n
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
-        if chunk > BLOCK:  # whole blocks of the truncation indicator's products (a chunk's last block is padded)
+        if self.reduced_balance and chunk > BLOCK:  # whole blocks of the truncation indicator's products
             chunk -= chunk % BLOCK
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
         if len(parts) == 1:
