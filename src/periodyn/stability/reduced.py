@@ -60,7 +60,7 @@ AUTO_MIN_COORDINATES = 2 * START_MODES
 # estimated seconds of one correction (the complex LU of the reduced Hill matrix, N = (2m+1) k,
 # and the products; measured 4-6 ms at N = 300 on one core): CORRECTION_COST[0] N^3 + [1]
 CORRECTION_COST = (1.0e-10, 2.0e-3)
-LADDER_CLIMB = 4.0  # the reduced ladder's time over its first comparison (3.5 on the 32-element slider-crank)
+LADDER_CLIMB = 3.0  # the reduced ladder's time over its first comparison (3.0-3.2 on the 16-128-element slider-cranks)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
 # a null vector whose harmonic energy centroid is within this of half a harmonic from 0 is
 # centred: on the line Im(lambda) = w/2 (a negative real multiplier) the centroid is +-1/2, and
