@@ -70,7 +70,8 @@ class ReducedBalance:
         self.mean_stack = np.stack([X[K].real for X in terms])  # their mean blocks, (Q, n, n)
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
-        self.analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # (m+1, P)
+        analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # harmonics a = 0..m of samples, (m+1, P)
+        self.analysis = np.concatenate([analysis.real, analysis.imag])  # real and imaginary parts, (2(m+1), P)
         self.force = np.stack([fs[np.arange(-m, m + 1) + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
         Phi = modes.shapes
         self.mean_diagonals = [np.einsum("ni,nm,mi->i", Phi, X.mean(axis=0), Phi)
@@ -133,7 +134,8 @@ class ReducedBalance:
             z = np.concatenate([y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
                                 for t in taken for d in [self.derivative[t]]], axis=2)
             r = np.matmul(self.stacked(taken), np.ascontiguousarray(z.transpose(1, 2, 0)))  # (P, n, S)
-            out -= np.einsum("aj,jns->san", self.analysis, r, optimize=True)
+            h = (self.analysis @ r.reshape(self.P, -1)).reshape(2, self.m + 1, n, S)  # by one real product
+            out -= (h[0] + 1j * h[1]).transpose(2, 0, 1)
         if order:  # a constant block's product with the harmonics, per harmonic
             Y = np.concatenate([Z[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, m+1, G n)
             mean = np.matmul(np.concatenate([Y.real, Y.imag], axis=1), blocks.transpose(0, 2, 1))
