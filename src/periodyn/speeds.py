@@ -21,7 +21,7 @@ from .harmonic.operator import HarmonicOperator, HillOperator, check_harmonics
 from .harmonic.batch_balance import BalanceBatch
 from .harmonic.balance import amplification, balance_failure, periodic_solution
 from .harmonic.reduced_balance import ReducedBalance
-from .harmonic.truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, SweepTruncation,
+from .harmonic.truncation import (BALANCE_TRUNCATION_TOL, BalanceTruncationWarning, SweepTruncation, BLOCK,
                                   balance_truncation_message)
 from .stability.batch import SpeedStability
 from .stability.methods import method_named, stability_choice
@@ -256,6 +256,8 @@ class SpeedSolver:
         if self.reduced_balance:  # its samples; dense Hill (a speed "reduced" hands on) takes sub-chunks
             per_speed = 16 * (self.pattern.band + 2 * self.m + 1) * self.model.n
         chunk = int(np.clip(_BATCH_ELEMENTS // per_speed, 1, 256))
+        if self.reduced_balance and chunk > BLOCK:  # whole blocks of the truncation indicator's products
+            chunk -= chunk % BLOCK
         parts = [self._solve_chunk(w[i: i + chunk]) for i in range(0, w.size, chunk)]
         if len(parts) == 1:
             return parts[0]

@@ -67,15 +67,24 @@ class ReducedBalance:
             self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
         self.samples = [synthesize(X[d + K], theta) for X in terms]  # each term at the P angles, (P, n, n)
-        self.means = [X[K].real for X in terms]  # their mean blocks (n, n)
+        self.mean_stack = np.stack([X[K].real for X in terms])  # their mean blocks, (Q, n, n)
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
-        self.analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # (m+1, P)
+        analysis = np.exp(-1j * np.outer(np.arange(m + 1), theta)) / P  # harmonics a = 0..m of samples, (m+1, P)
+        self.analysis = np.concatenate([analysis.real, analysis.imag])  # real and imaginary parts, (2(m+1), P)
         self.force = np.stack([fs[np.arange(-m, m + 1) + K, :, p] for p in range(fs.shape[-1])])  # (Pf, 2m+1, n)
         Phi = modes.shapes
         self.mean_diagonals = [np.einsum("ni,nm,mi->i", Phi, X.mean(axis=0), Phi)
                                for X in (model.mass, *model.damping, *model.stiffness)]
         self._kept: dict[int, HarmonicOperator] = {}
+        self._stacked: dict[tuple[int, ...], np.ndarray] = {}
+
+    def stacked(self, taken: tuple[int, ...]) -> np.ndarray:
+        """The samples of the terms ``taken`` side by side, (P, n, T n) (one matrix product per
+        angle for all of them; built once per set of terms)."""
+        if taken not in self._stacked:
+            self._stacked[taken] = np.concatenate([self.samples[t] for t in taken], axis=2)
+        return self._stacked[taken]
 
     def kept_operator(self, k: int) -> HarmonicOperator:
         """The HB operator of the model projected on its k lowest mean modes."""
@@ -102,13 +111,12 @@ class ReducedBalance:
         w^p per derivative, side by side (S, n, G n) (their harmonics are the samples'
         rounding noise, 1e-14 to 3e-13 of their largest entry)."""
         used = above_noise(self.mags, self.floors, self.exponents, w).any(axis=0)
-        constant: dict[int, np.ndarray] = {}
-        for t in np.flatnonzero(~used):
-            d = int(self.derivative[t])
-            constant[d] = constant.get(d, 0.0) + w[:, None, None] ** self.exponents[t] * self.means[t]
-        order = sorted(constant)
-        blocks = np.concatenate([constant[d] for d in order], axis=2) if order else np.zeros((w.size, self.n, 0))
-        return used, order, blocks
+        order = sorted({int(self.derivative[t]) for t in np.flatnonzero(~used)})
+        blocks = np.empty((w.size, self.n, len(order), self.n))
+        for g, d in enumerate(order):  # sum_t w^e_t Xbar_t over the terms t of derivative d, as one matrix product
+            t = np.flatnonzero(~used & (self.derivative == d))
+            blocks[:, :, g] = np.tensordot(w[:, None] ** self.exponents[t], self.mean_stack[t], 1)
+        return used, order, blocks.reshape(w.size, self.n, -1)
 
     def residual(self, w: np.ndarray, q: np.ndarray, f: np.ndarray, terms=None) -> np.ndarray:
         """f - W(w) q (S, m+1, n) of the full HB equations, harmonics a = 0..m, for the
@@ -120,12 +128,14 @@ class ReducedBalance:
         jw = 1j * np.arange(self.m + 1)[None, :, None] * w[:, None, None]
         Z = np.concatenate([jw * jw * q, jw * q, q], axis=2)  # harmonics of q'', q', q, (S, m+1, 3n)
         y = np.matmul(self.real_synthesis, np.concatenate([Z.real, Z.imag], axis=1))  # their samples, (S, P, 3n)
-        r = np.zeros((self.P, n, S))
-        for t in np.flatnonzero(used):
-            d = self.derivative[t]
-            z = y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
-            r += np.matmul(self.samples[t], np.ascontiguousarray(z.transpose(1, 2, 0)))
-        out = f - np.einsum("aj,jns->san", self.analysis, r, optimize=True)
+        out = f.copy()
+        taken = tuple(int(t) for t in np.flatnonzero(used))
+        if taken:  # the samples of q'', w^p q' or w^p q of each term taken, (S, P, T n)
+            z = np.concatenate([y[:, :, d * n: (d + 1) * n] * w[:, None, None] ** self.exponents[t]
+                                for t in taken for d in [self.derivative[t]]], axis=2)
+            r = np.matmul(self.stacked(taken), np.ascontiguousarray(z.transpose(1, 2, 0)))  # (P, n, S)
+            h = (self.analysis @ r.reshape(self.P, -1)).reshape(2, self.m + 1, n, S)  # by one real product
+            out -= (h[0] + 1j * h[1]).transpose(2, 0, 1)
         if order:  # a constant block's product with the harmonics, per harmonic
             Y = np.concatenate([Z[:, :, d * n: (d + 1) * n] for d in order], axis=2)  # (S, m+1, G n)
             mean = np.matmul(np.concatenate([Y.real, Y.imag], axis=1), blocks.transpose(0, 2, 1))

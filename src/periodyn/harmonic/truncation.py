@@ -39,7 +39,7 @@ import scipy.linalg
 from ..numerics.spectra import half_synthesis, min_samples, sample_angles, synthesize
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
-           "SweepTruncation", "above_noise", "coefficient_terms", "noise_floors"]
+           "SweepTruncation", "above_noise", "coefficient_terms", "coefficient_tops", "noise_floors"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -153,6 +153,7 @@ class SweepTruncation:
         self.synthesis = half_synthesis(m, theta)  # (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
+        self.real_mean = [X.real for X in self.mean] if not any(np.any(X.imag) for X in self.mean) else None
         self.modal = _modal_blocks(self.mean, Cs.shape[-1])
         inside = self.l <= Kf
         self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
@@ -218,9 +219,15 @@ class SweepTruncation:
             i = i[at]
             wa = w[at][:, None, None]
             lw = self.l[i][:, None, None] * wa
-            C = sum(wa ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
-            Kw = sum(wa ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
-            D = -lw ** 2 * M + 1j * lw * C + Kw
+            if self.real_mean is None:
+                C = sum(wa ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
+                Kw = sum(wa ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
+                D = -lw ** 2 * M + 1j * lw * C + Kw
+            else:  # the same values by real arithmetic on half the data (the means' imaginary parts are 0)
+                Mr, *CK = self.real_mean
+                D = np.empty((at.size, self.n, self.n), complex)
+                D.real = -lw ** 2 * Mr + sum(wa ** p * X for p, X in enumerate(CK[Pc:]))
+                D.imag = lw * sum(wa ** p * X for p, X in enumerate(CK[:Pc]))
             try:
                 est = np.abs(np.linalg.solve(D, R[at, i, :, None])[..., 0])
             except np.linalg.LinAlgError:  # one speed's mean system resonates at its harmonic
@@ -278,6 +285,17 @@ def above_noise(mags: np.ndarray, floors: np.ndarray, exponents: np.ndarray, w: 
     above = (mags[:, k > 0] > FLOOR * floors[:, None]).any(axis=1) & (floors > 0)  # (Q,)
     largest = _NEGLIGIBLE * terms.sum(axis=1).max(axis=1)
     return above | (floors == 0) & (terms[:, :, k > 0] > largest[:, None, None]).any(axis=2)
+
+
+def coefficient_tops(mags: np.ndarray, floors: np.ndarray) -> np.ndarray:
+    """Highest harmonic |k| (Q,) of each term's harmonic magnitudes (Q, 2K+1) above FLOOR
+    times its noise floor (Q,) (:func:`noise_floors`; the harmonics above it are noise), or
+    above _NEGLIGIBLE of its largest where it has no floor."""
+    K = (mags.shape[1] - 1) // 2
+    k = np.abs(np.arange(2 * K + 1) - K)
+    above = np.where(floors[:, None] > 0, mags > FLOOR * floors[:, None],
+                     mags > _NEGLIGIBLE * mags.max(axis=1, keepdims=True))
+    return np.where(above, k, 0).max(axis=1)
 
 
 def noise_floors(mags: np.ndarray) -> np.ndarray:

@@ -13,8 +13,9 @@ lambda by the first Schur-complement term
     d_lambda = sum_a s_h[a] D_a^-1 r_h[a] / (y^H Q'_ll(lambda) x),   r_h = Q_hl x,  s_h = y^H Q_lh,
     D_a = s_a^2 Mbar_hh + s_a Cbar_hh + Kbar_hh        (the mean truncated block),
 
-(r_h and s_h by products on 2K + 2m + 1 angles, linear in n - k; D_a^-1 by Jacobi sweeps
-on its diagonal, O(m (n-k)^2)), and the corrected growth per period is
+(r_h and s_h by products on band + 2m + 1 angles, band the highest coefficient harmonic
+above the noise floors of the terms taken, linear in n - k; D_a^-1 by Jacobi sweeps on its
+diagonal, O(m (n-k)^2), :mod:`periodyn.stability.schur`), and the corrected growth per period is
 Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is
 certified when the bound is at most STABILITY_TOL max(1, |G|) and below the distance of
 G from the verdict's threshold; otherwise (also near a double exponent, y^H Q' x -> 0,
@@ -27,21 +28,26 @@ s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 
-from ..harmonic.truncation import above_noise, coefficient_terms
+from ..harmonic.truncation import above_noise, coefficient_terms, coefficient_tops
 from ..model.reduce import guarded_modes, mean_modes
-from ..numerics.spectra import fourier_coefficients, min_samples, sample_angles, synthesize
+from ..numerics.spectra import fourier_coefficients, sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
 from .magnus import MagnusLadder
+from .schur import harmonic_offsets, null_vectors, truncated_solve
 
 __all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
            "reduced_costs", "LADDER_TOL",
            "START_MODES", "AUTO_MIN_COORDINATES"]
 
-LADDER_TOL = 1e-9  # error goal of log max|mu| for the reduced ladder (its floor: ERROR_FLOOR)
+# error goal of log max|mu| for the reduced ladder: 1e-8 leaves the bound's budget to the
+# correction (2 |d_lambda| T up to 6.7e-7 on 16-128 elements against STABILITY_TOL = 1e-6) and
+# the corrected exponent within 1e-8 (true ladder error at most 5.4e-10 on the 16-element
+# slider-crank with 10 modes, 150-300 rad/s); at 1e-9 (the estimate's floor, ERROR_FLOOR) the
+# ladder took 1.6 times as long
+LADDER_TOL = 1e-8
 # modes of the first try, before the parametric-reach guard: with 4 the bound (3e-6 to 4e-5
 # on the 4-64-element slider-cranks over 150-300 rad/s) was above the tolerance at every speed;
 # with 8 (bound 1e-7 to 2e-6) at 5 or 6 of 24 speeds, which then climbed the 16-mode ladder at
@@ -54,7 +60,7 @@ AUTO_MIN_COORDINATES = 2 * START_MODES
 # estimated seconds of one correction (the complex LU of the reduced Hill matrix, N = (2m+1) k,
 # and the products; measured 4-6 ms at N = 300 on one core): CORRECTION_COST[0] N^3 + [1]
 CORRECTION_COST = (1.0e-10, 2.0e-3)
-LADDER_CLIMB = 4.0  # the reduced ladder's time over its first comparison (3.5 on the 32-element slider-crank)
+LADDER_CLIMB = 3.0  # the reduced ladder's time over its first comparison (3.0-3.2 on the 16-128-element slider-cranks)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
 # a null vector whose harmonic energy centroid is within this of half a harmonic from 0 is
 # centred: on the line Im(lambda) = w/2 (a negative real multiplier) the centroid is +-1/2, and
@@ -62,8 +68,6 @@ WINDOW = 1.0  # exponents with growth per period within this of the top are corr
 CENTRE_SLACK = 0.01
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
 DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
-JACOBI_STEPS = 20  # Jacobi sweeps on the mean truncated blocks D_a before their dense solve
-JACOBI_RTOL = 1e-12  # relative residual of D_a z_a = r_a at which the sweeps stop
 
 
 class _Ladder(MagnusLadder):
@@ -77,51 +81,6 @@ class _Ladder(MagnusLadder):
         c = super().config()
         c[kernel.CFG_TOL] = self.tol
         return c
-
-
-def _offsets(X: np.ndarray, m: int) -> np.ndarray:
-    """Coefficients X_(a-b) for a, b = -m..m from a spectrum (2K+1, ...), (2m+1, 2m+1, ...)."""
-    K = (X.shape[0] - 1) // 2
-    d = np.arange(-m, m + 1)[:, None] - np.arange(-m, m + 1)[None, :]
-    out = np.zeros(d.shape + X.shape[1:], dtype=complex)
-    inside = np.abs(d) <= K
-    out[inside] = X[d[inside] + K]
-    return out
-
-
-def _truncated_solve(Mh: np.ndarray, Ch: np.ndarray, Kh: np.ndarray, s: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """z (2m+1, h) with D_a z_a = r_a, D_a = s_a^2 Mh + s_a Ch + Kh (mean truncated block
-    (h, h) each, s (2m+1,), r (2m+1, h)): Jacobi sweeps on the diagonal (in mean-modal
-    coordinates the blocks are diagonal up to the speed-dependent and non-proportional
-    terms, small against the stiff truncated modes), O(m h^2) each, to JACOBI_RTOL; where
-    they do not converge within JACOBI_STEPS, the dense solves (O(m h^3))."""
-    d = (s * s)[:, None] * np.diag(Mh) + s[:, None] * np.diag(Ch) + np.diag(Kh)
-    z = r / d
-    scale = np.linalg.norm(r)
-    h, rows = r.shape[1], r.shape[0]
-    A = np.concatenate([Mh.real.T, Ch.real.T, Kh.real.T], axis=1)  # the means of real samples: real, (h, 3h)
-    for _ in range(JACOBI_STEPS):
-        Z = np.concatenate([z.real, z.imag]) @ A  # one real product for the three blocks
-        Z = Z[:rows] + 1j * Z[rows:]
-        res = r - ((s * s)[:, None] * Z[:, :h] + s[:, None] * Z[:, h: 2 * h] + Z[:, 2 * h:])
-        if np.linalg.norm(res) <= JACOBI_RTOL * scale:
-            return z
-        z = z + res / d
-    D = s[:, None, None] ** 2 * Mh[None] + s[:, None, None] * Ch[None] + Kh[None]
-    return np.linalg.solve(D, r[..., None])[..., 0]
-
-
-def _null_vectors(Q: np.ndarray, iterations: int = 3) -> tuple[np.ndarray, np.ndarray]:
-    """Right and left null vectors x, y (unit) of a nearly singular square Q by inverse
-    iteration on one LU (Q x ~ 0, y^H Q ~ 0)."""
-    lu = sla.lu_factor(Q, check_finite=False)
-    x = np.linspace(1.0, 2.0, Q.shape[0]) + 0j
-    y = x.copy()
-    for _ in range(iterations):
-        x = sla.lu_solve(lu, x, check_finite=False)
-        y = sla.lu_solve(lu, y, trans=2, check_finite=False)
-        x, y = x / np.linalg.norm(x), y / np.linalg.norm(y)
-    return x, y
 
 
 class ReducedStability:
@@ -139,38 +98,47 @@ class ReducedStability:
 
         self.M, self.C, self.K = spectra(model.mass), spectra(model.damping), spectra(model.stiffness)
         self._ladders: dict[int, _Ladder] = {}
-        self._couplings: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
+        self._couplings: dict[tuple[int, int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
+        self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
         _, self._mags, self._floors, self._exponents = coefficient_terms(self.M, self.C, self.K)
+        self._tops = coefficient_tops(self._mags, self._floors)
+        K0 = (self.M.shape[0] - 1) // 2  # the mean coefficients (of real samples: real), per omega-power (P, n, n)
+        self._means = (self.M[K0].real,
+                       *(np.ascontiguousarray(np.moveaxis(X[K0].real, -1, 0)) for X in (self.C, self.K)))
 
-    def couplings(self, k: int, m: int) -> tuple[np.ndarray, ...]:
-        """The coupling blocks of k kept modes at P = 2K + 2m + 1 angles, with m harmonics
-        (built once per (k, m)): synthesis E (P, 2m+1) of sum_a x_a e^(i a theta), per term
-        (M, C_p, K_p) the real blocks hl (P, n-k, k), lh (P, k, n-k) and their means. No product
-        of a coefficient harmonic |d| <= K with a harmonic |b| <= m aliases onto |a| <= m on these
-        angles: the products are the harmonic convolutions, O(P (n-k) k) instead of O(m K (n-k) k)."""
-        if (k, m) not in self._couplings:
+    def couplings(self, k: int, m: int, band: int) -> tuple[np.ndarray, ...]:
+        """The coupling blocks of k kept modes with m harmonics and the coefficient harmonics
+        |d| <= band at P = band + 2m + 1 angles (built once per (k, m, band)): synthesis E
+        (P, 2m+1) of sum_a x_a e^(i a theta), per term (M, C_p, K_p) the real blocks hl
+        (P, n-k, k), lh (P, k, n-k) and their means. No product of a harmonic |d| <= band with
+        a harmonic |b| <= m aliases onto |a| <= m on these angles: the products are the
+        harmonic convolutions, O(P (n-k) k) instead of O(m band (n-k) k)."""
+        if (k, m, band) not in self._couplings:
             K0 = (self.M.shape[0] - 1) // 2
-            theta = sample_angles(min_samples(m, K0))
+            theta = sample_angles(band + 2 * m + 1)
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
-            stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)  # (2K+1, n, n, 1 + Pc + Pk)
+            stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)[K0 - band: K0 + band + 1]
             l, h = slice(0, k), slice(k, self.n)
             hl, lh = (np.moveaxis(synthesize(stack[:, r, c], theta), -1, 0) for r, c in ((h, l), (l, h)))
-            means = [np.moveaxis(stack[K0, r, c].real, -1, 0) for r, c in ((h, l), (l, h))]
-            self._couplings[k, m] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
-        return self._couplings[k, m]
+            means = [np.moveaxis(stack[band, r, c].real, -1, 0) for r, c in ((h, l), (l, h))]
+            self._couplings[k, m, band] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
+        return self._couplings[k, m, band]
 
-    def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray):
+    def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray, band=None):
         """r_h = Q_hl(lambda) x (2m+1, n-k) and s_h = y^H Q_lh(lambda) (2m+1, n-k) for
         Hill vectors x, y (2m+1, k) with s_b = lambda + i b w (2m+1,): per angle the terms
-        with harmonics above noise (:func:`~periodyn.harmonic.truncation.above_noise`), the
-        others by their mean blocks (their harmonics are the samples' rounding noise)."""
-        E, hl, lh, hl_mean, lh_mean = self.couplings(k, m)
+        with harmonics above noise (:func:`~periodyn.harmonic.truncation.above_noise`) with
+        their harmonics up to ``band`` (default: the highest of those terms above FLOOR times
+        its noise floor, all of a term without a floor), the others by their mean blocks
+        (their harmonics are the samples' rounding noise)."""
+        used = above_noise(self._mags, self._floors, self._exponents, np.array([w]))[0]
+        band = int(self._tops[used].max(initial=0)) if band is None else band
+        E, hl, lh, hl_mean, lh_mean = self.couplings(k, m, band)
         Pc, P = self.C.shape[-1], E.shape[0]
         powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
         weights = np.concatenate([[s * s], np.repeat(s[None], Pc, 0), np.ones((len(powers) - 1 - Pc, s.size))])
         weights = weights * powers[:, None]  # (1 + Pc + Pk, 2m+1): s_b^2 for M, s_b w^p for C_p, w^p for K_p
-        used = above_noise(self._mags, self._floors, self._exponents, np.array([w]))[0]
         r = np.zeros((2 * m + 1, self.n - k), complex)
         sh = np.zeros_like(r)
         ys = np.ascontiguousarray(np.conj(E) @ np.conj(y))  # sum_a conj(y_a) e^(-i a theta_j), (P, k)
@@ -194,7 +162,8 @@ class ReducedStability:
         if (k, m) not in self._hill:
             l, N = slice(0, k), (2 * m + 1) * k
             stack = np.concatenate([self.M[:, l, l, None], self.C[:, l, l], self.K[:, l, l]], axis=-1)
-            self._hill[k, m] = np.ascontiguousarray(_offsets(stack, m).transpose(4, 0, 2, 1, 3)).reshape(-1, N, N)
+            offsets = harmonic_offsets(stack, m).transpose(4, 0, 2, 1, 3)
+            self._hill[k, m] = np.ascontiguousarray(offsets).reshape(-1, N, N)
         return self._hill[k, m]
 
     def ladder(self, k: int) -> _Ladder:
@@ -203,13 +172,21 @@ class ReducedStability:
             self._ladders[k] = _Ladder(self.M[:, :k, :k], self.C[:, :k, :k], self.K[:, :k, :k], LADDER_TOL)
         return self._ladders[k]
 
-    def _at(self, w: float, rows: slice, cols: slice, mean: bool = False) -> tuple[np.ndarray, ...]:
-        """Modal spectra M, C, K (2K+1, r, c) of the block (rows, cols) at speed w (only the
-        mean coefficients (r, c) with ``mean``)."""
-        k = slice((self.M.shape[0] - 1) // 2, (self.M.shape[0] + 1) // 2) if mean else slice(None)
-        M, C, K = (X[k, rows, cols] for X in (self.M, self.C, self.K))
-        out = (M, C @ w ** np.arange(C.shape[-1]), K @ w ** np.arange(K.shape[-1]))
-        return tuple(X[0] for X in out) if mean else out
+    def _at(self, w: float, rows: slice, cols: slice) -> tuple[np.ndarray, ...]:
+        """Mean modal coefficients M, C, K (r, c) of the block (rows, cols) at speed w."""
+        M, C, K = self._means
+        return M[rows, cols], np.tensordot(w ** np.arange(len(C)), C[:, rows, cols], 1), \
+            np.tensordot(w ** np.arange(len(K)), K[:, rows, cols], 1)
+
+    def truncated_blocks(self, w: float, k: int) -> np.ndarray:
+        """The mean truncated blocks at speed w side by side and transposed, [M_hh^T, C_hh^T,
+        K_hh^T] (n-k, 3(n-k)) (of :func:`~periodyn.stability.schur.truncated_solve`; their
+        omega-power terms kept contiguous per k)."""
+        if k not in self._truncated:
+            self._truncated[k] = tuple(np.ascontiguousarray(X[..., k:, k:].swapaxes(-1, -2)) for X in self._means)
+        M, C, K = self._truncated[k]
+        return np.concatenate([M, np.tensordot(w ** np.arange(len(C)), C, 1),
+                               np.tensordot(w ** np.arange(len(K)), K, 1)], axis=1)
 
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
@@ -223,14 +200,13 @@ class ReducedStability:
         """Exponents (2k,) of the kept modes' mean system at speed w (the representatives'
         first guess: a Floquet exponent lies near one of them)."""
         l = slice(0, k)
-        M, C, K = self._at(w, l, l, mean=True)
+        M, C, K = self._at(w, l, l)
         A = np.block([[np.zeros((k, k)), np.eye(k)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
         return np.linalg.eigvals(A)
 
     def correction(self, lam: complex, w: float, m: int, k: int) -> tuple[complex, complex, str]:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
-        h = slice(k, self.n)
         terms = self.hill_terms(k, m)
         Pc = self.C.shape[-1]
         M = terms[0]
@@ -244,7 +220,7 @@ class ReducedStability:
         for _ in range(3):
             s = lam + 1j * a * w  # s_b per column harmonic b
             sc = np.repeat(s, k)
-            x, y = _null_vectors(M * (sc * sc) + C * sc + K)
+            x, y = null_vectors(M * (sc * sc) + C * sc + K)
             x, y = x.reshape(2 * m + 1, k), y.reshape(2 * m + 1, k)
             energy = (np.abs(x) ** 2).sum(axis=1)
             centroid = energy @ a / energy.sum()
@@ -262,7 +238,7 @@ class ReducedStability:
         if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
         r, sh = self._coupled(w, k, m, s, x, y)  # s_h[b] = sum_a y_a^H Q_lh[a, b]
-        z = _truncated_solve(*self._at(w, h, h, mean=True), s, r)
+        z = truncated_solve(self.truncated_blocks(w, k), s, r)
         return lam, complex(np.einsum("ai,ai->", sh, z) / denom), ""
 
     def certify(self, w: float, m: int, k: int, exps: np.ndarray, error: float):

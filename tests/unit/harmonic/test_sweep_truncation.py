@@ -11,7 +11,8 @@ import pytest
 
 from periodyn.examples import pendulum
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
-from periodyn.harmonic.truncation import BALANCE_TRUNCATION_TOL, SweepTruncation, balance_truncation
+from periodyn.harmonic.truncation import (FLOOR, BALANCE_TRUNCATION_TOL, SweepTruncation, balance_truncation,
+                                          coefficient_tops)
 from periodyn.model.linearization import omega_split
 from periodyn.speeds import SpeedSolver
 from periodyn.system import OmegaSplitModel
@@ -142,3 +143,14 @@ def test_constant_coefficients_leave_no_harmonic_out():
     w = np.array([0.5, 0.9, 3.0])
     q = SpeedSolver(model, 2, stability=False)._balance(w)[0]
     assert np.array_equal(SweepTruncation(model._power_spectra[:4], 2)(q, w), np.zeros(3))
+
+
+def test_coefficient_tops_end_at_the_noise_floor():
+    """The highest harmonic above FLOOR times a term's noise floor; of a term without a floor
+    (0), the highest above 1e-13 of its largest."""
+    k = np.abs(np.arange(-6, 7))
+    decayed = np.where(k <= 3, 10.0 ** -k, 1e-14)  # harmonics 0..3, then a flat floor
+    decayed[6 + 5] = 2.9 * 1e-14  # below FLOOR times the floor: noise
+    flat = np.ones(13)
+    tops = coefficient_tops(np.stack([decayed, flat, np.zeros(13)]), np.array([1e-14, 0.0, 0.0]))
+    assert FLOOR == 3.0 and list(tops) == [3, 6, 0]
