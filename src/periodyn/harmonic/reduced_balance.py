@@ -204,11 +204,10 @@ class ReducedBalance:
         todo = np.arange(S)
         for it in range(1, ITERATIONS + 1):
             rm = _times_real(r, Phi)  # modal residual Phi^T r, (s, m+1, n)
-            y = np.empty((todo.size, m + 1, k), dtype=complex)
+            b = to_real_basis(_mirror(rm[:, :, :k], axis=1).reshape(todo.size, -1).T, m, k, halves=1)  # (N, s)
             for j, s in enumerate(todo):
-                b = to_real_basis(_mirror(rm[j, :, :k]).reshape(-1), m, k, halves=1)
-                z = sla.lu_solve(kept[s], b, check_finite=False)
-                y[j] = from_real_basis(z[:, None], m, k, halves=1)[:, 0].reshape(2 * m + 1, k)[m:]
+                b[:, j] = sla.lu_solve(kept[s], b[:, j], check_finite=False)
+            y = from_real_basis(b, m, k, halves=1).T.reshape(todo.size, 2 * m + 1, k)[:, m:]
             x[todo, :, :k] += y
             if k < n:  # the truncated modes' residual after the kept step (Gauss-Seidel)
                 rm = rm[:, :, k:] - self.coupling(w[todo], y, (used, order, None))[:, :, k:]
