@@ -136,20 +136,26 @@ class ReducedBalance:
         used, order, blocks = self.terms_at(w) if terms is None else terms
         return f - self._product(w, q, self.stacked(tuple(int(t) for t in np.flatnonzero(used))), used, order, blocks)
 
-    def coupling(self, w: np.ndarray, x: np.ndarray, terms) -> np.ndarray:
-        """Phi^T W(w) Phi_l x (S, m+1, n) in modal coordinates, harmonics a = 0..m, of the
-        kept modes' harmonics x (S, m+1, k) (the kept modes' columns of the terms: P n k work
-        per term, k/n of a residual's); ``terms``: :meth:`terms_at` of w."""
+    def coupling_terms(self, w: np.ndarray, k: int, terms) -> tuple:
+        """The data of :meth:`coupling` at speeds w (S,) with k kept modes: the terms taken and
+        the derivatives of the others (``terms``: :meth:`terms_at` of w), the samples Phi^T X_t
+        Phi_l of the terms taken side by side (P, n, T k) (built once per k and set of terms)
+        and the other terms' summed modal mean blocks per speed (S, n, G k)."""
         used, order, _ = terms
-        k = x.shape[-1]
         taken = tuple(int(t) for t in np.flatnonzero(used))
         Phi = self.modes.shapes
-        if (k, taken) not in self._modal:  # Phi^T X_t Phi_l at the P angles, side by side (P, n, T k)
+        if (k, taken) not in self._modal:
             self._modal[k, taken] = np.concatenate([Phi.T @ self.samples[t] @ Phi[:, :k] for t in taken], axis=2)
         if k not in self._modal_means:  # Phi^T Xbar_t Phi_l, (Q, n, k)
             self._modal_means[k] = np.einsum("ni,qnj->qij", Phi, self.mean_stack @ Phi[:, :k], optimize=True)
-        blocks = self._mean_sums(w, used, order, self._modal_means[k])
-        return self._product(w, x, self._modal[k, taken], used, order, blocks)
+        return used, order, self._modal[k, taken], self._mean_sums(w, used, order, self._modal_means[k])
+
+    def coupling(self, w: np.ndarray, x: np.ndarray, terms) -> np.ndarray:
+        """Phi^T W(w) Phi_l x (S, m+1, n) in modal coordinates, harmonics a = 0..m, of the
+        kept modes' harmonics x (S, m+1, k) (the kept modes' columns of the terms: P n k work
+        per term, k/n of a residual's); ``terms``: :meth:`coupling_terms` of w and k."""
+        used, order, stacked, blocks = terms
+        return self._product(w, x, stacked, used, order, blocks)
 
     def _product(self, w, q, stacked, used, order, blocks) -> np.ndarray:
         """W(w) q (S, m+1, r) of harmonics q (S, m+1, c) by the samples of the terms taken
@@ -196,6 +202,7 @@ class ReducedBalance:
         f = 0.5 * (f + np.conj(f[:, ::-1]))[:, m:]  # harmonics a >= 0 of a real force
         weight = np.where(np.arange(m + 1) > 0, 2.0, 1.0)[None, :, None]  # |v|^2 = sum_a>=0 weight_a |v_a|^2
         used, order, blocks = self.terms_at(w)
+        coupled = self.coupling_terms(w, k, (used, order, blocks)) if k < n else None
         x = np.zeros((S, m + 1, n), dtype=complex)
         q = np.zeros_like(x)
         r = f
@@ -210,7 +217,7 @@ class ReducedBalance:
             y = from_real_basis(b, m, k, halves=1).T.reshape(todo.size, 2 * m + 1, k)[:, m:]
             x[todo, :, :k] += y
             if k < n:  # the truncated modes' residual after the kept step (Gauss-Seidel)
-                rm = rm[:, :, k:] - self.coupling(w[todo], y, (used, order, None))[:, :, k:]
+                rm = rm[:, :, k:] - self.coupling(w[todo], y, (*coupled[:3], coupled[3][todo]))[:, :, k:]
                 x[todo, :, k:] += rm / D[todo]
             x[todo, 0] = x[todo, 0].real  # the mean of a real solution (its rounding in the solves)
             q[todo] = _times_real(x[todo], Phi.T)

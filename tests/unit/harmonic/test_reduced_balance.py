@@ -64,7 +64,7 @@ def test_the_kept_modes_coupling_is_the_full_operators(case):
     k, Phi = 4, rb.modes.shapes
     y = np.random.default_rng(1).standard_normal((len(SPEEDS), M + 1, k, 2)) @ np.array([1.0, 1j])
     y[:, 0] = y[:, 0].real
-    got = rb.coupling(SPEEDS, y, rb.terms_at(SPEEDS))
+    got = rb.coupling(SPEEDS, y, rb.coupling_terms(SPEEDS, k, rb.terms_at(SPEEDS)))
     for i, w in enumerate(SPEEDS):
         q = np.concatenate([np.conj(y[i, :0:-1]), y[i]]) @ Phi[:, :k].T  # (2m+1, n)
         direct = op.pattern.apply(op.at(w).blocks[0], q.reshape(-1)).reshape(2 * M + 1, -1)[M:] @ Phi
