@@ -57,6 +57,20 @@ def test_the_reported_residual_is_the_full_operators(case):
         assert direct == pytest.approx(rel[i], rel=1e-3, abs=1e-14)
 
 
+def test_the_kept_modes_coupling_is_the_full_operators(case):
+    """coupling(w, y) = Phi^T W Phi_l y of the block operator (its own matrix-vector product
+    on the physical harmonics Phi_l y), harmonics a = 0..m."""
+    model, op, full, rb = case
+    k, Phi = 4, rb.modes.shapes
+    y = np.random.default_rng(1).standard_normal((len(SPEEDS), M + 1, k, 2)) @ np.array([1.0, 1j])
+    y[:, 0] = y[:, 0].real
+    got = rb.coupling(SPEEDS, y, rb.coupling_terms(SPEEDS, k, rb.terms_at(SPEEDS)))
+    for i, w in enumerate(SPEEDS):
+        q = np.concatenate([np.conj(y[i, :0:-1]), y[i]]) @ Phi[:, :k].T  # (2m+1, n)
+        direct = op.pattern.apply(op.at(w).blocks[0], q.reshape(-1)).reshape(2 * M + 1, -1)[M:] @ Phi
+        assert np.abs(got[i] - direct).max() <= 1e-12 * np.abs(direct).max()
+
+
 def test_all_modes_reproduce_the_full_solve_in_one_step(case):
     model, op, full, rb = case
     q, rel, steps = rb.solve_many(SPEEDS, model.n)
