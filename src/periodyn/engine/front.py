@@ -17,12 +17,9 @@ or whose result holds a non-finite number, is a failed point (NaN, ``status = 1`
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import sys
-import tempfile
-import threading
 import time
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
@@ -42,7 +39,7 @@ from ..stability.methods import method_named, stability_choice
 from .progress import Progress
 from .session import check_interrupt, sweep_guard
 from .stream import STREAM_POINTS, Tally, streamed_columns, write_streamed
-from ..results import load, options_attrs, package_versions, save, to_dataset
+from ..results import load, options_attrs, package_versions, to_dataset
 from ..system import OmegaSplitModel
 
 __all__ = ["sweep", "sweep_file", "ExecutionOptions", "OutputOptions", "available_cores", "auto_workers",
@@ -182,17 +179,15 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if progress is not False and not callable(progress) and len(pending) and not kernels_cached():
             print(f"periodyn: {COMPILE_NOTE}", file=sys.stderr, flush=True)
         check_interrupt()
-        with contextlib.ExitStack() as scratch:
-            if backend == "processes" and checkpoint is not None:
-                job.writer, job.streamed = checkpoint, streamed  # the workers write their chunks' checkpoints
-                scratch.callback(_warm_writer(scratch).join)
-            with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-                for chunk in BACKENDS[backend](job, chunks, workers, execution):
-                    if not chunk.pop("written", False) and checkpoint is not None:
-                        checkpoint.write(chunk)
-                    collected.add(chunk)
-                    bar.update(len(chunk["index"]))
-                    check_interrupt()
+        if backend == "processes" and checkpoint is not None:
+            job.writer, job.streamed = checkpoint, streamed  # the workers write their chunks' checkpoints
+        with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
+            for chunk in BACKENDS[backend](job, chunks, workers, execution):
+                if not chunk.pop("written", False) and checkpoint is not None:
+                    checkpoint.write(chunk)
+                collected.add(chunk)
+                bar.update(len(chunk["index"]))
+                check_interrupt()
 
         failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
@@ -213,20 +208,6 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         if checkpoint is not None:
             checkpoint.finish(ds)
         return ds
-
-
-def _warm_writer(scratch: contextlib.ExitStack) -> threading.Thread:
-    """A thread that writes a one-value result file into a temporary folder while the
-    workers solve: a process's first result file imports and sets up its writer (h5netcdf,
-    Dask's scheduler lookup: 0.2-0.3 s), which then no longer delays the sweep's end."""
-    folder = Path(scratch.enter_context(tempfile.TemporaryDirectory(prefix="periodyn-writer-")))
-    def write():
-        with contextlib.suppress(Exception):  # a failure costs only the time it would have saved
-            save(xr.Dataset({"warm": ("x", np.zeros(1))}), folder / "warm.nc")
-
-    thread = threading.Thread(target=write, name="periodyn-writer-warm-up", daemon=True)
-    thread.start()
-    return thread
 
 
 def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:
