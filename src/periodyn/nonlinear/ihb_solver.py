@@ -163,7 +163,7 @@ class IHBProblem:
             f1 = self.system.force(q, qd, self.theta / (w1 / nu), w1, P)
             Ma = qdd @ M[0].T if M.strides[0] == 0 else np.matmul(M, qdd[:, :, None])[:, :, 0]
             d1 = (2.0 * Ma - np.matmul(Cf, qd[:, :, None])[:, :, 0]) / omega - (f1 - f) / (w1 - omega)
-            return (self._Pr @ d1).T.ravel()
+            return self.join(self._Pr @ d1, np.zeros((self.L, 0)))
         Aq, Al = self.split(X)
         S = self._E3 @ Aq
         lam = self._E @ Al if self.m else np.zeros((p, 0))
