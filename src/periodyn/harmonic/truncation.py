@@ -153,7 +153,7 @@ class SweepTruncation:
         self.synthesis = half_synthesis(m, theta)  # (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
-        self.real_mean = [X.real for X in self.mean] if not any(np.any(X.imag) for X in self.mean) else None
+        self.solve_means = [X.real if not X.imag.any() else X for X in self.mean]  # real where they are: half the work
         self.modal = _modal_blocks(self.mean, Cs.shape[-1])
         inside = self.l <= Kf
         self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
@@ -207,7 +207,6 @@ class SweepTruncation:
         band, used = self.content(w)
         top = self.tops(w, band)
         R = self.unbalanced(q, w, used)
-        M = self.mean[0]
         bound = self.bounds(R, w, top)
         order = np.argsort(-bound, axis=1, kind="stable")  # per speed, the largest bound first
         out = np.zeros(S)
@@ -219,15 +218,9 @@ class SweepTruncation:
             i = i[at]
             wa = w[at][:, None, None]
             lw = self.l[i][:, None, None] * wa
-            if self.real_mean is None:
-                C = sum(wa ** p * X for p, X in enumerate(self.mean[1: 1 + Pc]))
-                Kw = sum(wa ** p * X for p, X in enumerate(self.mean[1 + Pc:]))
-                D = -lw ** 2 * M + 1j * lw * C + Kw
-            else:  # the same values by real arithmetic on half the data (the means' imaginary parts are 0)
-                Mr, *CK = self.real_mean
-                D = np.empty((at.size, self.n, self.n), complex)
-                D.real = -lw ** 2 * Mr + sum(wa ** p * X for p, X in enumerate(CK[Pc:]))
-                D.imag = lw * sum(wa ** p * X for p, X in enumerate(CK[:Pc]))
+            Ms, *CK = self.solve_means
+            D = (-lw ** 2 * Ms + sum(wa ** p * X for p, X in enumerate(CK[Pc:]))
+                 + 1j * (lw * sum(wa ** p * X for p, X in enumerate(CK[:Pc]))))
             try:
                 est = np.abs(np.linalg.solve(D, R[at, i, :, None])[..., 0])
             except np.linalg.LinAlgError:  # one speed's mean system resonates at its harmonic
