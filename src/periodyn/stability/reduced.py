@@ -118,10 +118,11 @@ class ReducedStability:
             K0 = (self.M.shape[0] - 1) // 2
             theta = sample_angles(band + 2 * m + 1)
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
-            stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)[K0 - band: K0 + band + 1]
-            l, h = slice(0, k), slice(k, self.n)
-            hl, lh = (np.moveaxis(synthesize(stack[:, r, c], theta), -1, 0) for r, c in ((h, l), (l, h)))
-            means = [np.moveaxis(stack[band, r, c].real, -1, 0) for r, c in ((h, l), (l, h))]
+            d, l, h = slice(K0 - band, K0 + band + 1), slice(0, k), slice(k, self.n)
+            hl, lh = (np.concatenate([self.M[d, r, c, None], self.C[d, r, c], self.K[d, r, c]], axis=-1)
+                      for r, c in ((h, l), (l, h)))  # the blocks' harmonics |d| <= band only, (2 band + 1, ., ., Q)
+            means = [np.moveaxis(X[band].real, -1, 0) for X in (hl, lh)]
+            hl, lh = (np.moveaxis(synthesize(X, theta), -1, 0) for X in (hl, lh))
             self._couplings[k, m, band] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
         return self._couplings[k, m, band]
 
