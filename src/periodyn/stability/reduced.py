@@ -184,11 +184,10 @@ class ReducedStability:
         return self._hill[k, m]
 
     def kept(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra M, C, K of the k-mode model (its block of ``M``, ``C``, ``K``; projected
-        alone while the full ones are not built), (2K+1, k, k[, P])."""
+        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P]) (the block of ``M``, ``C``, ``K``,
+        projected alone: the same whether or not those are built)."""
         if k not in self._kept:
-            full = self.__dict__.get("_full")
-            self._kept[k] = self._projected(k) if full is None else tuple(X[:, :k, :k] for X in full)
+            self._kept[k] = self._projected(k)
         return self._kept[k]
 
     def ladder(self, k: int) -> _Ladder:
