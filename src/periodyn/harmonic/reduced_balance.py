@@ -19,10 +19,7 @@ instead of 4 (slider-crank, 32-128 rod elements, k = 10, m = 12). The residual
 (exact: no product of a coefficient harmonic |d| <= band with a response harmonic |b| <= m
 aliases onto a balanced harmonic |a| <= m), O(P n^2) per speed instead of an
 O(((2m+1) n)^3) LU. The iterates and residuals are those of a real solution, kept as
-their harmonics a = 0..m (a < 0: the conjugates). A term whose harmonics weigh at most
-MEAN_ONLY of its mean (:mod:`periodyn.harmonic.truncation`; the slider-crank's mass) enters by
-its mean, and the bound of what its harmonics leave out (:meth:`ReducedBalance.left_out`) is
-added to the residual that certifies. A speed whose relative residual does not
+their harmonics a = 0..m (a < 0: the conjugates). A speed whose relative residual does not
 reach RTOL within ITERATIONS steps is reported as not converged (the caller solves it in full).
 """
 
@@ -36,7 +33,7 @@ from ..numerics.spectra import half_synthesis, sample_angles, synthesize
 from ..system import OmegaSplitModel
 from .operator import HarmonicOperator
 from .pattern import from_real_basis, to_real_basis
-from .truncation import MEAN_ONLY, above_noise, coefficient_terms, harmonic_norms
+from .truncation import above_noise, coefficient_terms
 
 __all__ = ["ReducedBalance", "RTOL", "ITERATIONS"]
 
@@ -73,10 +70,6 @@ class ReducedBalance:
             self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
         self.theta, self.terms, self._samples = theta, [X[K - band: K + band + 1] for X in terms], {}
-        # per term the bound of its harmonics' norms; taken by its mean where they are below MEAN_ONLY of it
-        self.harmonics_bound = np.array([harmonic_norms(X, band) for X in terms]).T
-        self.mean_only = self.harmonics_bound[1] <= MEAN_ONLY * self.harmonics_bound[0]
-        self.harmonics_bound = self.harmonics_bound[1]
         self.mean_stack = np.stack([X[K].real for X in terms])  # their mean blocks, (Q, n, n)
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
@@ -128,24 +121,10 @@ class ReducedBalance:
         of them, :func:`~periodyn.harmonic.truncation.above_noise`), the derivatives (0 q'',
         1 q', 2 q) the other terms multiply, and per speed the sums of their mean blocks times
         w^p per derivative, side by side (S, n, G n) (their harmonics are the samples'
-        rounding noise, 1e-14 to 3e-13 of their largest entry, or below MEAN_ONLY of their
-        mean: :meth:`left_out` bounds those)."""
-        used = above_noise(self.mags, self.floors, self.exponents, w).any(axis=0) & ~self.mean_only
+        rounding noise, 1e-14 to 3e-13 of their largest entry)."""
+        used = above_noise(self.mags, self.floors, self.exponents, w).any(axis=0)
         order = sorted({int(self.derivative[t]) for t in np.flatnonzero(~used)})
         return used, order, self._mean_sums(w, used, order, self.mean_stack)
-
-    def left_out(self, w: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """Bound (S,) of the 2-norm over all harmonics of what the harmonics of the terms above
-        noise but taken by their mean (:meth:`terms_at`) leave out of W(w) q, for the harmonics
-        a = 0..m of real solutions q (S, m+1, n) at speeds w (S,): sum_t |w|^p_t
-        harmonics_bound_t |q''|, |q'| or |q| (the convolution's norm is at most the sum of its
-        harmonics' norms times the norm of the signal), 0 where there are none."""
-        t = np.flatnonzero(above_noise(self.mags, self.floors, self.exponents, w).any(axis=0) & self.mean_only)
-        a = np.arange(self.m + 1)
-        power = (np.where(a > 0, 2.0, 1.0) * (np.abs(q) ** 2).sum(axis=2)).T  # (m+1, S): |q_a|^2 (a < 0 alike)
-        norms = np.sqrt(np.stack([((a[:, None] * w) ** (2 * (2 - d)) * power).sum(axis=0) for d in range(3)]))
-        return sum(self.harmonics_bound[i] * np.abs(w) ** self.exponents[i] * norms[self.derivative[i]] for i in t) \
-            + np.zeros(w.size)
 
     def _mean_sums(self, w: np.ndarray, used: np.ndarray, order: list[int], stack: np.ndarray) -> np.ndarray:
         """Per speed w (S,) the sums of the blocks stack (Q, r, c) of the terms not used times
@@ -216,8 +195,8 @@ class ReducedBalance:
         return s * s * M + s * c[:, None, :] + kk[:, None, :]
 
     def solve_many(self, w: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Physical harmonics (S, 2m+1, n), relative residuals of the full HB equations (S,; a
-        bound: the computed one plus :meth:`left_out`) and the residual evaluations taken (S,; 0 where RTOL was not reached in ITERATIONS)
+        """Physical harmonics (S, 2m+1, n), relative residuals of the full HB equations (S,)
+        and the residual evaluations taken (S,; 0 where RTOL was not reached in ITERATIONS)
         at speeds w (S,) rad/s with k kept modes."""
         m, n, S = self.m, self.n, w.size
         Phi = self.modes.shapes
@@ -250,8 +229,7 @@ class ReducedBalance:
             x[todo, 0] = x[todo, 0].real  # the mean of a real solution (its rounding in the solves)
             q[todo] = _times_real(x[todo], Phi.T)
             r = self.residual(w[todo], q[todo], f[todo], (used, order, blocks[todo]))
-            rel[todo] = (np.sqrt((weight * np.abs(r) ** 2).sum(axis=(1, 2))) + self.left_out(w[todo], q[todo])) \
-                / scale[todo]
+            rel[todo] = np.sqrt((weight * np.abs(r) ** 2).sum(axis=(1, 2))) / scale[todo]
             done = rel[todo] <= RTOL
             steps[todo[done]] = it
             todo, r = todo[~done], r[~done]

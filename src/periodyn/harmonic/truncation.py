@@ -39,8 +39,7 @@ import scipy.linalg
 from ..numerics.spectra import half_synthesis, min_samples, sample_angles, synthesize
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
-           "SweepTruncation", "above_noise", "coefficient_terms", "coefficient_tops", "noise_floors", "MEAN_ONLY",
-           "harmonic_norms"]
+           "SweepTruncation", "above_noise", "coefficient_terms", "coefficient_tops", "noise_floors"]
 
 #: indicator above which a periodic solution is called unresolved (amplitudes then differ
 #: from the integrated orbit by up to about this fraction or more: benchmarks/property_run.py)
@@ -122,24 +121,6 @@ SLACK = 2.0
 FLOOR = 3.0
 #: a term's top quarter of harmonics is its noise floor where below this of its largest
 RESOLVED = 1e-8
-
-
-#: a term whose harmonics 0 < |k| <= band weigh in norm at most this fraction of its mean enters
-#: the products by its mean, with a bound of what its harmonics leave out: a tenth of the
-#: reduced HB's residual tolerance (1e-10), so against the term's own action the bound takes
-#: at most that share of it (the slider-crank's mass: 2e-12, its harmonics 1e-14 to 1.8e-13
-#: of its mean, just above the noise floor)
-MEAN_ONLY = 1e-11
-
-
-def harmonic_norms(X: np.ndarray, band: int) -> tuple[float, float]:
-    """Upper bounds of the 2-norm of the mean of a spectrum X (2K+1, n, n) (index k+K, of
-    real samples) and of the sum of the 2-norms of its harmonics 0 < |k| <= band, by
-    |A|_2 <= sqrt(|A|_1 |A|_inf) (a harmonic -k has the norms of k, its conjugate)."""
-    K = (X.shape[0] - 1) // 2
-    A = np.abs(X[K: K + min(band, K) + 1])
-    norms = np.sqrt(A.sum(axis=1).max(axis=1) * A.sum(axis=2).max(axis=1))
-    return float(norms[0]), 2.0 * float(norms[1:].sum())
 
 
 class SweepTruncation:
