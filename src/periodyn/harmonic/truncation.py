@@ -146,9 +146,8 @@ class SweepTruncation:
         self.force_mags = np.stack([_magnitudes(fs[..., p]) for p in range(fs.shape[-1])])  # (Pf, 2Kf+1)
         self.B = B = int(_top(self.mags).max())
         self.l = np.arange(m + 1, max(m + B, Kf) + 1)  # (L,) the unbalanced harmonics any speed can have
-        theta = sample_angles(min_samples(m, B))
-        d = np.arange(-B, B + 1) + K
-        self.samples = [synthesize(X[d], theta) for X in terms]  # each term at the angles, (P, n, n)
+        self.theta = theta = sample_angles(min_samples(m, B))
+        self.terms, self._samples = [X[K - B: K + B + 1] for X in terms], {}  # harmonics |k| <= B; their samples
         # samples Re(sum_a z_a e^(i a theta)) from the real part's harmonics zs_a = (z_a + conj z_-a) / 2, a >= 0
         self.synthesis = half_synthesis(m, theta)  # (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
@@ -158,6 +157,13 @@ class SweepTruncation:
         inside = self.l <= Kf
         self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
         self.force[inside] = fs[Kf + self.l[inside]]
+
+    def samples(self, t: int) -> np.ndarray:
+        """Term t at the P angles (P, n, n) (built on first use: the products take only the
+        terms with harmonics above noise)."""
+        if t not in self._samples:
+            self._samples[t] = synthesize(self.terms[t], self.theta)
+        return self._samples[t]
 
     def content(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Coefficient band (S,) and the terms the products take (S, Q) at speeds w (S,)
@@ -194,7 +200,7 @@ class SweepTruncation:
             half = 0.5 * (fq[:, m:] + np.conj(fq[:, m::-1]))  # (S, m+1, n)
             z[:S] = np.matmul(self.synthesis[None], np.concatenate([half.real, half.imag], axis=1))  # samples, per speed
             zb = np.ascontiguousarray(z.reshape(blocks, BLOCK, *z.shape[1:]).transpose(0, 2, 3, 1))  # (blocks, P, n, BLOCK)
-            rt = np.matmul(self.samples[t][None], zb).transpose(0, 3, 1, 2).reshape(r.shape)
+            rt = np.matmul(self.samples(t)[None], zb).transpose(0, 3, 1, 2).reshape(r.shape)
             r[:S] += np.where(used[:, t, None, None], rt[:S], 0.0)
         return np.einsum("lnf,sf->sln", self.force, w[:, None] ** np.arange(self.force.shape[-1])) \
             - np.matmul(self.analysis[None], r[:S])  # (S, L, n), per speed

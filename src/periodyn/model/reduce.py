@@ -24,7 +24,8 @@ import scipy.linalg as sla
 from ..errors import InputError
 from ..system import OmegaSplitModel
 
-__all__ = ["MeanModes", "ReducedModel", "mean_modes", "guarded_modes", "project", "modal_reduction"]
+__all__ = ["MeanModes", "ReducedModel", "mean_modes", "guarded_modes", "project", "modal_spectrum",
+           "modal_reduction"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,6 +119,20 @@ def project(model: OmegaSplitModel, basis: np.ndarray, frequencies: np.ndarray |
     return ReducedModel(out.mass, out.damping, out.stiffness, out.force, out.coordinate_names, out.output_maps,
                         out.output_names, out.name, rebuild if model.rebuild is not None else None, out.metadata,
                         Phi, None if frequencies is None else np.asarray(frequencies, float), model)
+
+
+def modal_spectrum(X: np.ndarray, basis: np.ndarray) -> np.ndarray:
+    """Phi^T X_k Phi (2K+1, k, k[, P]) of a two-sided spectrum X (2K+1, n, n[, P]) of real
+    samples (index k+K; P omega-powers) on the columns of basis Phi (n, k): the harmonics
+    k >= 0 by real products of their real and imaginary parts, k < 0 their conjugates (the
+    spectrum of the projected samples, without transforming them again)."""
+    K = (X.shape[0] - 1) // 2
+    Y = np.moveaxis(X[K:], -1, 1) if X.ndim == 4 else X[K:, None]  # (K+1, P, n, n)
+    half = np.empty(Y.shape[:2] + (basis.shape[1],) * 2, complex)
+    half.real = basis.T @ np.ascontiguousarray(Y.real) @ basis
+    half.imag = basis.T @ np.ascontiguousarray(Y.imag) @ basis
+    half = np.moveaxis(half, 1, -1) if X.ndim == 4 else half[:, 0]
+    return np.concatenate([np.conj(half[:0:-1]), half])
 
 
 def modal_reduction(model: OmegaSplitModel, modes: int, reference_speed: float = 0.0, *, harmonics: int | None = None,

@@ -27,11 +27,13 @@ s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from ..harmonic.truncation import above_noise, coefficient_terms, coefficient_tops
-from ..model.reduce import guarded_modes, mean_modes
-from ..numerics.spectra import fourier_coefficients, sample_angles, synthesize
+from ..model.reduce import guarded_modes, mean_modes, modal_spectrum
+from ..numerics.spectra import sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
@@ -85,27 +87,40 @@ class _Ladder(MagnusLadder):
 
 class ReducedStability:
     """Per-model data of the method "reduced": the full model's spectra in the modal
-    coordinates of its mean system at ``reference_speed`` rad/s, and the reduced ladders
-    (built per mode count on first use)."""
+    coordinates of its mean system at ``reference_speed`` rad/s (``M``, ``C``, ``K``: all n
+    modes, built on first use), and per mode count k the kept block's spectra and ladder
+    (the ladder's cost estimate needs only these: a sweep's cost estimate projects no more)."""
 
     def __init__(self, model: OmegaSplitModel, reference_speed: float = 0.0):
         self.model, self.n = model, model.n
         self.modes = mean_modes(model, reference_speed)
-        Phi = self.modes.shapes
-
-        def spectra(X):  # of the projected real samples X (..., p, n, n): (2K+1, n, n[, P])
-            return fourier_coefficients(np.moveaxis(Phi.T @ X @ Phi, 0, -1) if X.ndim == 4 else Phi.T @ X @ Phi)
-
-        self.M, self.C, self.K = spectra(model.mass), spectra(model.damping), spectra(model.stiffness)
         self._ladders: dict[int, _Ladder] = {}
+        self._kept: dict[int, tuple[np.ndarray, ...]] = {}
         self._couplings: dict[tuple[int, int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
         self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
-        _, self._mags, self._floors, self._exponents = coefficient_terms(self.M, self.C, self.K)
-        self._tops = coefficient_tops(self._mags, self._floors)
-        K0 = (self.M.shape[0] - 1) // 2  # the mean coefficients (of real samples: real), per omega-power (P, n, n)
-        self._means = (self.M[K0].real,
-                       *(np.ascontiguousarray(np.moveaxis(X[K0].real, -1, 0)) for X in (self.C, self.K)))
+
+    def _projected(self, k: int) -> tuple[np.ndarray, ...]:
+        """Spectra M, C, K of the model on its k lowest modes, (2K+1, k, k[, P])."""
+        return tuple(modal_spectrum(X, self.modes.shapes[:, :k]) for X in self.model._power_spectra[:3])
+
+    @cached_property
+    def _full(self) -> tuple[np.ndarray, ...]:  # M (2K+1, n, n), C and K (2K+1, n, n, P) in all n modes
+        return self._projected(self.n)
+
+    M, C, K = (property(lambda self, i=i: self._full[i]) for i in range(3))
+
+    @cached_property
+    def _noise(self) -> tuple[np.ndarray, ...]:
+        """Harmonic magnitudes, noise floors, omega-powers and tops of the modal terms."""
+        _, mags, floors, exponents = coefficient_terms(self.M, self.C, self.K)
+        return mags, floors, exponents, coefficient_tops(mags, floors)
+
+    @cached_property
+    def _means(self) -> tuple[np.ndarray, ...]:
+        """The mean coefficients (of real samples: real), per omega-power (P, n, n)."""
+        K0 = (self.M.shape[0] - 1) // 2
+        return (self.M[K0].real, *(np.ascontiguousarray(np.moveaxis(X[K0].real, -1, 0)) for X in (self.C, self.K)))
 
     def couplings(self, k: int, m: int, band: int) -> tuple[np.ndarray, ...]:
         """The coupling blocks of k kept modes with m harmonics and the coefficient harmonics
@@ -118,10 +133,11 @@ class ReducedStability:
             K0 = (self.M.shape[0] - 1) // 2
             theta = sample_angles(band + 2 * m + 1)
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
-            stack = np.concatenate([self.M[..., None], self.C, self.K], axis=-1)[K0 - band: K0 + band + 1]
-            l, h = slice(0, k), slice(k, self.n)
-            hl, lh = (np.moveaxis(synthesize(stack[:, r, c], theta), -1, 0) for r, c in ((h, l), (l, h)))
-            means = [np.moveaxis(stack[band, r, c].real, -1, 0) for r, c in ((h, l), (l, h))]
+            d, l, h = slice(K0 - band, K0 + band + 1), slice(0, k), slice(k, self.n)
+            hl, lh = (np.concatenate([self.M[d, r, c, None], self.C[d, r, c], self.K[d, r, c]], axis=-1)
+                      for r, c in ((h, l), (l, h)))  # the blocks' harmonics |d| <= band only, (2 band + 1, ., ., Q)
+            means = [np.moveaxis(X[band].real, -1, 0) for X in (hl, lh)]
+            hl, lh = (np.moveaxis(synthesize(X, theta), -1, 0) for X in (hl, lh))
             self._couplings[k, m, band] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
         return self._couplings[k, m, band]
 
@@ -132,8 +148,9 @@ class ReducedStability:
         their harmonics up to ``band`` (default: the highest of those terms above FLOOR times
         its noise floor, all of a term without a floor), the others by their mean blocks
         (their harmonics are the samples' rounding noise)."""
-        used = above_noise(self._mags, self._floors, self._exponents, np.array([w]))[0]
-        band = int(self._tops[used].max(initial=0)) if band is None else band
+        mags, floors, exponents, tops = self._noise
+        used = above_noise(mags, floors, exponents, np.array([w]))[0]
+        band = int(tops[used].max(initial=0)) if band is None else band
         E, hl, lh, hl_mean, lh_mean = self.couplings(k, m, band)
         Pc, P = self.C.shape[-1], E.shape[0]
         powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
@@ -160,16 +177,23 @@ class ReducedStability:
         (a, i) and columns (b, j): M_(a-b), C_p,(a-b), K_p,(a-b) of the k kept modes (built
         once per (k, m)); Q_ll = s_b^2 M + s_b sum_p w^p C_p + sum_p w^p K_p."""
         if (k, m) not in self._hill:
-            l, N = slice(0, k), (2 * m + 1) * k
-            stack = np.concatenate([self.M[:, l, l, None], self.C[:, l, l], self.K[:, l, l]], axis=-1)
+            M, C, K = self.kept(k)
+            N, stack = (2 * m + 1) * k, np.concatenate([M[..., None], C, K], axis=-1)
             offsets = harmonic_offsets(stack, m).transpose(4, 0, 2, 1, 3)
             self._hill[k, m] = np.ascontiguousarray(offsets).reshape(-1, N, N)
         return self._hill[k, m]
 
+    def kept(self, k: int) -> tuple[np.ndarray, ...]:
+        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P]) (the block of ``M``, ``C``, ``K``,
+        projected alone: the same whether or not those are built)."""
+        if k not in self._kept:
+            self._kept[k] = self._projected(k)
+        return self._kept[k]
+
     def ladder(self, k: int) -> _Ladder:
-        """The ladder of the k-mode model (spectra of the projected samples)."""
+        """The ladder of the k-mode model (:meth:`kept`)."""
         if k not in self._ladders:
-            self._ladders[k] = _Ladder(self.M[:, :k, :k], self.C[:, :k, :k], self.K[:, :k, :k], LADDER_TOL)
+            self._ladders[k] = _Ladder(*self.kept(k), LADDER_TOL)
         return self._ladders[k]
 
     def _at(self, w: float, rows: slice, cols: slice) -> tuple[np.ndarray, ...]:

@@ -7,7 +7,8 @@ from periodyn import characteristic_exponents, periodic_solution
 from periodyn.errors import InputError
 from periodyn.examples.slider_crank_rod import first_bending_frequency, slider_crank_model
 from periodyn.model.linearization import omega_split
-from periodyn.model.reduce import MeanModes, guarded_modes, mean_modes, modal_reduction
+from periodyn.model.reduce import MeanModes, guarded_modes, mean_modes, modal_reduction, modal_spectrum
+from periodyn.numerics.spectra import fourier_coefficients
 from periodyn.stability.magnus import MagnusLadder
 
 
@@ -64,6 +65,20 @@ def test_reduced_exponents_converge_with_the_rod_mesh():
         growth.append(est.exponents.real.max(axis=1) * 2 * np.pi / w)
     d1, d2 = np.abs(growth[1] - growth[0]), np.abs(growth[2] - growth[1])
     assert np.all(d2 < d1 / 8) and d2.max() < 1e-7
+
+
+def test_the_modal_spectrum_is_that_of_the_projected_samples(crank4):
+    """Projecting a spectrum harmonic by harmonic equals transforming the projected samples
+    (both are linear in the samples), for every coefficient term and any number of modes."""
+    Phi = mean_modes(crank4).shapes
+    for k in (3, crank4.n):
+        for X, spectrum in zip((crank4.mass, crank4.damping, crank4.stiffness), crank4._power_spectra):
+            projected = Phi[:, :k].T @ X @ Phi[:, :k]  # (p, k, k) or (P, p, k, k)
+            ref = fourier_coefficients(np.moveaxis(projected, 0, -1) if X.ndim == 4 else projected)
+            got = modal_spectrum(spectrum, Phi[:, :k])
+            assert got.shape == ref.shape
+            assert np.abs(got - ref).max() <= 1e-12 * np.abs(ref).max()
+            assert np.array_equal(got[::-1], np.conj(got))  # the spectrum of real samples
 
 
 def test_the_guard_keeps_underdamped_modes_within_parametric_reach(crank4):
