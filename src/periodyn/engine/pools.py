@@ -126,7 +126,8 @@ class ForkedPool:
     def __iter__(self) -> Iterator[dict]:
         complete = False
         try:
-            for future in as_completed(self.futures):
+            finished, self.futures = as_completed(self.futures), []  # a chunk's result is dropped once yielded
+            for future in finished:
                 yield future.result()
             complete = True
         finally:
