@@ -18,7 +18,11 @@ Two predictions of the efficiency at 16 workers are printed, from
   it). Set-up and finish are taken as CPU time as well (they compute, they do not wait): the
   finish and the loop's CPU outside solving are fitted by c + N s over the sizes;
   a = c + the set-up + the wall time until the first worker was up; p is the solving CPU
-  time per point of the one-worker runs.
+  time per point of the one-worker runs. A second MEASURED line counts the loop's CPU as
+  work the cores share (it runs while the workers solve: with w workers on w cores it
+  takes CPU from them, it does not hold them up) and only the finish as serial.
+  "1st chunk s" is the wall time from the loop's start until the first chunk came back
+  (a worker's first chunk also loads the solver's kernels: not counted in a).
 
 Every sweep runs in a fresh process writing its result file (as a user's ``periodyn sweep`` does; the interpreter's
 imports are not timed, the first pool start and kernel loading are), twice for each size, the
@@ -61,7 +65,7 @@ from periodyn.engine.front import ExecutionOptions, sweep, sweep_file
 kind, points, workers = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 marks = {"solve_cpu": 0.0, "ready": None, "up_at": None}
 solve = Job.solve
-def timed_solve(self, indices):  # this process only: workers import Job from the fork server
+def timed_solve(self, indices):  # this process's solves (a forked worker's count in its own copy of marks)
     cpu = time.process_time()
     try:
         return solve(self, indices)
@@ -77,7 +81,9 @@ backends._record_start = timed_record
 def timed_backend(run):
     def timed(job, chunks, workers, execution):
         marks["loop_start"], marks["loop_start_cpu"] = time.perf_counter(), time.process_time()
-        yield from run(job, chunks, workers, execution)  # the sweep's work between chunks counts too
+        for chunk in run(job, chunks, workers, execution):  # the sweep's work between chunks counts too
+            marks.setdefault("first_result", time.perf_counter())
+            yield chunk
         marks["loop_end"], marks["loop_end_cpu"] = time.perf_counter(), time.process_time()
     return timed
 for name in ("serial", "processes"):
@@ -100,6 +106,7 @@ end, end_cpu = time.perf_counter(), time.process_time()
 window = marks["up_at"] - marks["loop_start"] if marks["up_at"] is not None else None
 print(json.dumps({"seconds": end - start, "points": int(ds.attrs["points"]), "backend": ds.attrs["backend"],
                   "ready": marks["ready"], "window": window, "setup": marks["loop_start"] - start,
+                  "first_result": marks["first_result"] - marks["loop_start"],
                   "finish": end - marks["loop_end"], "setup_cpu": marks["loop_start_cpu"] - start_cpu,
                   "finish_cpu": end_cpu - marks["loop_end_cpu"], "solve_cpu": marks["solve_cpu"],
                   "overhead_cpu": marks["loop_end_cpu"] - marks["loop_start_cpu"] - marks["solve_cpu"]}))
@@ -128,28 +135,32 @@ def fit(rows: list[tuple[int, int, float]]) -> tuple[float, float, float]:
     return float(a), float(s), float(p)
 
 
-def measured(runs: list[dict]) -> tuple[float, float, float, str] | None:
+def measured(runs: list[dict], pipeline: bool = False) -> tuple[float, float, float, str] | None:
     """(a, s, p, how) measured directly, not fitted to wall times, from the runs with worker
     processes: the calling process's CPU seconds in the chunk loop outside solving (collecting,
-    progress, checkpoints, feeding the pool, warming the result writer) plus its finish (merging,
+    progress, checkpoints, feeding the pool, loading the result writer) plus its finish (merging,
     writing the file), fitted by c + N s over their sizes (with one size or a negative fit, all of
     it counted per point at the largest N: conservative); a = c + the mean set-up CPU seconds +
     the mean wall time until the first worker was up; p the solving CPU seconds per point of the
-    one-worker runs."""
+    one-worker runs. ``pipeline``: the loop's CPU (spent while the workers solve) counted as
+    work shared by the cores (added to p) and only the finish fitted by c + N s."""
     pooled = [r for r in runs if r["backend"] == "processes" and r["window"] is not None]
     single = [r for r in runs if r["workers"] == 1]
     if not pooled or not single:
         return None
-    late = np.array([r["finish_cpu"] + r["overhead_cpu"] for r in pooled])
+    late = np.array([r["finish_cpu"] + (0.0 if pipeline else r["overhead_cpu"]) for r in pooled])
     n = np.array([r["points"] for r in pooled], dtype=float)
     fixed = float(np.mean([r["setup_cpu"] + r["window"] for r in pooled]))
     p = float(np.mean([r["solve_cpu"] / r["points"] for r in single]))
+    if pipeline:
+        largest = [r for r in pooled if r["points"] == max(n)]
+        p += float(np.mean([r["overhead_cpu"] / r["points"] for r in largest]))
     if len(set(n)) > 1:
         (c, s), *_ = np.linalg.lstsq(np.stack([np.ones_like(n), n], axis=1), late, rcond=None)
         if s >= 0 and c >= 0:
-            return fixed + float(c), float(s), p, "finish and loop CPU fitted over N"
+            return fixed + float(c), float(s), p, "fitted over N"
     i = int(np.argmax(n))
-    return fixed, late[i] / n[i], p, "finish and loop CPU all counted per point (conservative)"
+    return fixed, late[i] / n[i], p, "all counted per point at the largest N (conservative)"
 
 
 def efficiency(a: float, s: float, p: float, n: float, w: int) -> float:
@@ -174,7 +185,8 @@ def main() -> None:
             continue
         print(f"\n{title}")
         print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9} "
-              f"{'set-up s':>8} {'(CPU)':>6} {'first up s':>10} {'finish s':>8} {'(CPU)':>6} {'loop CPU ms/pt':>14}")
+              f"{'set-up s':>8} {'(CPU)':>6} {'first up s':>10} {'1st chunk s':>11} {'finish s':>8} {'(CPU)':>6} "
+              f"{'loop CPU ms/pt':>14}")
         rows, runs = [], []
         for n in (int(round(size * args.scale)) for size in sizes):
             t1 = None
@@ -188,6 +200,7 @@ def main() -> None:
                 window = f"{r['window']:10.2f}" if r["window"] is not None else f"{'-':>10}"
                 print(f"{r['points']:>7} {w:>7} {r['seconds']:8.2f} {r['points'] / r['seconds']:9.1f} "
                       f"{t1 / (w * r['seconds']):10.1%} {ready} {r['setup']:8.2f} {r['setup_cpu']:6.2f} {window} "
+                      f"{r['first_result']:11.2f} "
                       f"{r['finish']:8.2f} {r['finish_cpu']:6.2f} {1e3 * r['overhead_cpu'] / r['points']:14.4f}",
                       flush=True)
         a, s, p = fit(rows)
@@ -208,20 +221,25 @@ def main() -> None:
         if direct is None:
             print("MEASURED: needs runs with worker processes at two sizes and a one-worker run")
             continue
-        am, sm, pm, how = direct
-        print(f"MEASURED directly (the calling process's CPU outside solving, {how}; a also holds the wall time "
-              f"until the first worker was up; p: the one-worker runs' solving CPU): start cost a = {am:.2f} s, "
-              f"serial s = {sm * 1e3:.4f} ms/point, parallel p = {pm * 1e3:.3f} ms/point, "
-              f"serial fraction f = {sm / (sm + pm):.3%}")
-        print(f"  predicted efficiency at 16 workers: {efficiency(am, sm, pm, largest, 16):.1%} at N = {largest}, "
-              f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
-              f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
-              "(idle cores, no memory-bandwidth limit)")
+        for pipeline, (am, sm, pm, how) in ((False, direct), (True, measured(runs, pipeline=True))):
+            if not pipeline:
+                print(f"MEASURED directly (serial: the calling process's CPU outside solving in the loop and the "
+                      f"finish, {how}; a also holds the set-up CPU and the wall time until the first worker was up; "
+                      f"p: the one-worker runs' solving CPU): start cost a = {am:.2f} s, serial s = {sm * 1e3:.4f} "
+                      f"ms/point, parallel p = {pm * 1e3:.3f} ms/point, serial fraction f = {sm / (sm + pm):.3%}")
+            else:
+                print(f"MEASURED, the loop's CPU (spent while the workers solve) counted as work the cores share "
+                      f"(in p), serial: the finish ({how}): a = {am:.2f} s, s = {sm * 1e3:.4f} ms/point, "
+                      f"p = {pm * 1e3:.3f} ms/point, f = {sm / (sm + pm):.3%}")
+            print(f"  predicted efficiency at 16 workers: {efficiency(am, sm, pm, largest, 16):.1%} at N = {largest}, "
+                  f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
+                  f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
+                  "(idle cores, no memory-bandwidth limit)")
         pooled = [r for r in runs if r["backend"] == "processes"]
         loop = max(pooled, key=lambda r: (r["points"], r["workers"]))
         per_point = loop["overhead_cpu"] / loop["points"]
         print(f"  the loop CPU ({per_point * 1e3:.4f} ms/point at N = {loop['points']}) runs while the workers solve: "
-              f"counted as serial above (an upper bound); as a pipeline it caps the sweep at "
+              f"counted as serial in the first MEASURED line (an upper bound); as a pipeline it caps the sweep at "
               f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
     print(f"\nload average at end {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
 

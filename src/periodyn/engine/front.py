@@ -17,6 +17,7 @@ or whose result holds a non-finite number, is a failed point (NaN, ``status = 1`
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import sys
@@ -125,7 +126,7 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
     grid_names, grid_values = _check_grid(model, parameters)
     out = None if out is None else Path(out)
     if execution.scheduler is None and workers > 1:
-        start_server_early()  # the workers' fork server imports and loads kernels meanwhile
+        start_server_early(execution)  # where workers are not forked from here: their fork server warms up meanwhile
     with sweep_guard(out):  # out checked and locked before any computing; Ctrl-C stops between chunks
         source = ModelSource(model, grid_names, grid_values, p)
         first = (0,) * len(grid_names)
@@ -181,13 +182,18 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         check_interrupt()
         if backend == "processes" and checkpoint is not None:
             job.writer, job.streamed = checkpoint, streamed  # the workers write their chunks' checkpoints
-        with Progress(total, total - len(pending), f"sweep {model_name}", progress) as bar:
-            for chunk in BACKENDS[backend](job, chunks, workers, execution):
+        results = BACKENDS[backend](job, chunks, workers, execution)  # may fork workers: before any other thread
+        writer_loaded = out is None or backend == "serial"
+        with contextlib.closing(results), Progress(total, total - len(pending), f"sweep {model_name}",
+                                                   progress) as bar:
+            for chunk in results:
                 if not chunk.pop("written", False) and checkpoint is not None:
                     checkpoint.write(chunk)
                 collected.add(chunk)
                 bar.update(len(chunk["index"]))
                 check_interrupt()
+                if not writer_loaded:  # while the workers solve
+                    writer_loaded = _load_writer()
 
         failed, methods = collected.counts()
         attrs = {"title": f"periodyn sweep of {model_name}", "created_by": "periodyn.sweep",
@@ -210,6 +216,21 @@ def sweep(model, omega, harmonics: int, samples: int | None = None, stability: b
         return ds
 
 
+def _load_writer() -> bool:
+    """Import what writing the result file imports (h5netcdf, h5py, and distributed, which
+    xarray's writer imports to look for a Dask client: 0.2 of the 0.4 s that writing a
+    first file took), here while the workers solve rather than after the last chunk. In
+    this (the main) thread: h5py imported by a second thread deadlocked against
+    threadpoolctl's scan of the loaded libraries in this one (the dynamic loader's lock
+    against the GIL), under the oldest dependencies."""
+    import importlib
+
+    for name in ("h5py", "h5netcdf", "distributed"):
+        with contextlib.suppress(ImportError):
+            importlib.import_module(name)
+    return True
+
+
 def _method_counts(methods: dict[str, int], method: str, stability: bool) -> str:
     """Dataset attribute: how many points each stability method served ({method: points}),
     and the rule of a method that chooses per point (its registry entry's ``rule``, e.g. "auto")."""
@@ -229,7 +250,7 @@ def sweep_file(spec, *, omega=None, out=None, workers: int | str = 1, scheduler=
     if workers == "auto":
         workers = auto_workers(spec.points(omega))
     if scheduler is None and workers != 1:
-        start_server_early()  # warms up while the model is built
+        start_server_early()  # where workers are not forked from here: warms up while the model is built
     plan = spec.plan(omega)
     return sweep(plan.model, plan.omega, spec.harmonics, spec.samples, spec.method if spec.stability else False,
                  parameters=plan.parameters, workers=workers, out=out, resume=resume, progress=progress,

@@ -13,7 +13,10 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["ExecutionOptions", "OutputOptions", "check_int"]
+__all__ = ["ExecutionOptions", "OutputOptions", "check_int", "WORKER_STARTS"]
+
+#: ways local worker processes start (ExecutionOptions.worker_start)
+WORKER_STARTS = ("auto", "forkserver", "spawn")
 
 
 def check_int(name: str, value, minimum: int) -> int:
@@ -37,17 +40,24 @@ class ExecutionOptions:
         only when they would finish the chunks left after the first two (solved in the
         calling process, the second timed) sooner than the calling process alone, counting
         their start as measured on this process's previous pool.
+    worker_start: how local worker processes start: "auto" (forked from this process once
+        the model is built, where that is safe, else from a fork server, else spawned),
+        "forkserver" (a fork server, where available, else spawned) or "spawn".
     """
 
     scheduler: Any = None
     chunk_size: int | None = None
     eager_workers: bool = False
+    worker_start: str = "auto"
 
     def __post_init__(self):
         if self.chunk_size is not None:
             object.__setattr__(self, "chunk_size", check_int("ExecutionOptions.chunk_size", self.chunk_size, 1))
         if not isinstance(self.eager_workers, bool):
             raise InputError(f"ExecutionOptions.eager_workers must be True or False, got {self.eager_workers!r}")
+        if self.worker_start not in WORKER_STARTS:
+            raise InputError(f"ExecutionOptions.worker_start must be one of {', '.join(map(repr, WORKER_STARTS))}, "
+                             f"got {self.worker_start!r}")
         if self.scheduler is not None and not isinstance(self.scheduler, str) and not hasattr(self.scheduler, "submit"):
             raise InputError(f"ExecutionOptions.scheduler must be a Dask Client, a scheduler address such as "
                              f"'tcp://host:8786', or 'local', got {type(self.scheduler).__name__}")

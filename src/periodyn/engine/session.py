@@ -35,9 +35,10 @@ from typing import Iterator
 
 from ..errors import InputError
 
-__all__ = ["check_output", "sweep_guard", "check_interrupt", "caused_by_interrupt", "lock_path"]
+__all__ = ["check_output", "sweep_guard", "check_interrupt", "caused_by_interrupt", "lock_path", "forget_locks"]
 
 _HELD: dict[Path, int] = {}  # locks held by this process: resolved out -> nesting depth
+_FDS: dict[Path, int] = {}  # their open descriptors
 _INTERRUPT = {"installed": 0, "requested": False}
 
 
@@ -123,13 +124,24 @@ def _locked(out: Path) -> Iterator[None]:
         return
     check_output(out)
     fd = _acquire(out)
-    _HELD[key] = 1
+    _HELD[key], _FDS[key] = 1, fd
     try:
         yield
     finally:
-        del _HELD[key]
+        del _HELD[key], _FDS[key]
         lock_path(out).unlink(missing_ok=True)  # before the release: a waiting sweep then locks a new file
         os.close(fd)
+
+
+def forget_locks() -> None:
+    """In a process forked from a sweep's: close the inherited descriptors of the sweep's
+    locks, without unlocking (the lock belongs to the open file, which the sweep's process
+    still holds), so that they go with the sweep's process alone."""
+    for fd in _FDS.values():
+        with contextlib.suppress(OSError):
+            os.close(fd)
+    _HELD.clear()
+    _FDS.clear()
 
 
 def _on_sigint(signum, frame) -> None:

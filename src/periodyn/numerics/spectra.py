@@ -37,8 +37,6 @@ __all__ = [
 #: (the one band threshold of the Hill/HB operator and of output spectra)
 BAND_RTOL = 1e-13
 
-pyfftw.interfaces.cache.enable()
-pyfftw.interfaces.cache.set_keepalive_time(60.0)
 _THREADS = 1  # one FFT thread: parallelism is across speeds, not inside one transform
 _plan_lock = threading.Lock()
 _rfft_plans: dict[tuple, pyfftw.FFTW] = {}
