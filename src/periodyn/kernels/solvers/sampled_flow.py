@@ -14,7 +14,7 @@ kept as a constant matrix (the first sample) and the flat entries that vary alon
   that interpolant over a span.
 * ``certified_flow``: the whole step-doubling climb in one call: the half-period test, the
   monodromy at START / 2, START, 2 START, ... steps, its multipliers (2 x 2 in closed form,
-  else LAPACK dgeev) and the error test of the rule written in
+  else LAPACK's double-shift QR) and the error test of the rule written in
   :mod:`periodyn.stability.orbit_flow`.
 """
 
@@ -24,7 +24,8 @@ import numpy as np
 from numba import njit
 
 from .floquet import _magnus_steps
-from .magnus_ladder import GAUSS_NODES_3, _eigvals
+from .magnus_ladder import GAUSS_NODES_3
+from .real_eigvals import eigvals_small
 
 
 @njit(cache=True)
@@ -138,9 +139,9 @@ def sampled_monodromy(constant, varying, values, steps, span, phi):
 @njit(cache=True)
 def _multipliers(phi):
     """Eigenvalues (d,) of the real phi; 2 x 2 in closed form (the larger root first, the
-    other from the determinant: no cancellation)."""
+    other from the determinant: no cancellation), else by :func:`eigvals_small`."""
     if phi.shape[0] != 2:
-        return _eigvals(phi)
+        return eigvals_small(phi)
     a, b, c, e = phi[0, 0], phi[0, 1], phi[1, 0], phi[1, 1]
     half, det = 0.5 * (a + e), a * e - b * c
     root = np.sqrt(complex(half * half - det))
