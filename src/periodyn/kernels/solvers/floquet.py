@@ -91,20 +91,23 @@ def _expm(X, out, w):
 
     The squarings s are the fewest for which the first neglected Taylor term is below
     the unit round-off, bounded by ||X^13|| <= ||X^4||^3 ||X|| of the scaled matrix
-    (X^2, X^4 are formed before scaling and rescaled exactly by powers of two): for
+    (X^2, X^4 are formed before scaling and rescaled exactly by powers of two; the
+    powers of a sparse X (d >= _BLAS_MIN) from its nonzero entries): for
     the oscillatory step generators ||X^4||^(1/4) is near the spectral radius, well
     below ||X||, so this saves squarings over a plain norm test. out is NaN where ||X^4||
     overflows (the caller reports a non-finite monodromy matrix)."""
     d = X.shape[0]
     X1, X2, X3, X4, T, tmp = w[0], w[1], w[2], w[3], w[4], w[5]
-    m = d * d // 8 if d >= _BLAS_MIN else 0  # X sparse: X^2, X^3 from its entries
+    m = d * d // 8 if d >= _BLAS_MIN else 0  # X sparse: X^2, X^3, X^4 = X X^3 from its entries
     rows, cols, vals = np.empty(m, np.int64), np.empty(m, np.int64), np.empty(m)
     count = sparse_entries(X, rows, cols, vals) if m > 0 else -1
     if count < 0:
         _matmul(X, X, X2)
+        _matmul(X2, X2, X4)
     else:
         matmul_entries(rows, cols, vals, count, 1.0, X, X2)
-    _matmul(X2, X2, X4)
+        matmul_entries(rows, cols, vals, count, 1.0, X2, X3)
+        matmul_entries(rows, cols, vals, count, 1.0, X3, X4)
     n1, n4 = _norm1(X), _norm1(X4)
     if not (np.isfinite(n1) and np.isfinite(n4)):  # X^4 overflows: no squaring count resolves it
         out[:] = np.nan
@@ -125,7 +128,7 @@ def _expm(X, out, w):
     if count < 0:
         _matmul(X2, X1, X3)
     else:
-        matmul_entries(rows, cols, vals, count, s1, X2, X3)  # X1 X2 = X2 X1
+        X3 *= s1 * s2
     c = _TAYLOR
     # p = B0 + X4 (B1 + X4 (B2 + c12 X4)), B_j = c_4j I + c_4j+1 X + c_4j+2 X^2 + c_4j+3 X^3
     for i in range(d):
