@@ -13,7 +13,9 @@ ladder's first rung. No reduced system, no spectra, no ladder set-up, no balanci
 registry's rule (:func:`periodyn.stability.methods.flow_choice`) sends stiff orbits to the
 ladder. The whole climb is one compiled call
 (:func:`periodyn.kernels.solvers.sampled_flow.certified_flow`): for a one-degree-of-freedom
-orbit, a few 2 x 2 products per step and microseconds per orbit.
+orbit, a few 2 x 2 products per step and microseconds per orbit; a chain's sparse step
+generators multiply by their nonzero entries, and the multipliers of mid-size orbits come
+from LAPACK's double-shift QR (:mod:`periodyn.kernels.solvers.real_eigvals`).
 """
 
 from __future__ import annotations

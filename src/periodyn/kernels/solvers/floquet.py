@@ -14,7 +14,10 @@
 
 Matrix exponentials of the small step generators use scaling and squaring with the
 degree-12 Taylor polynomial (truncation below the unit round-off) evaluated by the
-Paterson-Stockmeyer scheme (5 products).
+Paterson-Stockmeyer scheme (5 products). From d = 16 on, a factor with at most d^2 / 8
+nonzero entries (the step generators of chains and banded models) multiplies by its entries
+(:mod:`periodyn.kernels.solvers.sparse_products`): the commutators of the 6th-order
+generator and the powers X^2..X^4 of the exponential.
 """
 
 from __future__ import annotations
