@@ -39,7 +39,7 @@ from .ihb_jacobian import JacobianPattern, block_needs
 from .options import IHBOptions, ihb_options
 from .orbit_linearization import linearize_orbit, orbit_exponents
 from ..stability.methods import flow_choice
-from ..stability.orbit_flow import SampledGenerator, flow_exponents, varying_entries
+from ..stability.orbit_flow import SampledGenerator, flow_exponents
 from ..dae import DAE
 
 __all__ = ["IHBProblem", "ihb", "default_samples"]
@@ -260,17 +260,12 @@ class IHBProblem:
             M, (Kf, Cf) = sysm.mass(q), sysm.force_jacobians(q, qd, t, omega, P)
         if sysm.mass_jacobian is not None:
             Kf = Kf - sysm.mass_jacobian(q, qdd)
-        J = np.concatenate([Kf, Cf], axis=2)  # (p, n, 2n): the lower block rows of A before M^-1
-        if M.strides[0] == 0:  # a constant mass: one factorization for every sample (none for a unit mass)
-            if M is not self._mass or not self._unit_mass:
-                J = np.linalg.solve(M[0], J.transpose(1, 0, 2).reshape(n, -1)).reshape(n, self.p, 2 * n).transpose(1, 0, 2)
-        else:
-            J = np.linalg.solve(M, J)
-        flat = J.reshape(self.p, -1)
-        at = varying_entries(flat)
-        A0 = np.eye(2 * n, k=n)
-        A0[n:] = J[0]
-        return SampledGenerator(A0, 2 * n * n + at, flat[:, at])
+        if M.strides[0] != 0 or M is not self._mass or not self._unit_mass:  # M^-1 [Kf, Cf] (p, n, 2n)
+            J = np.concatenate([Kf, Cf], axis=2)
+            J = (np.linalg.solve(M, J) if M.strides[0] else  # a constant mass: one factorization for every sample
+                 np.linalg.solve(M[0], J.transpose(1, 0, 2).reshape(n, -1)).reshape(n, self.p, 2 * n).transpose(1, 0, 2))
+            Kf, Cf = J[:, :, :n], J[:, :, n:]
+        return SampledGenerator.from_blocks(Kf, Cf)
 
     def exponents(self, X, omega, params=None, method="magnus"):
         """Floquet exponents of the orbit X (FloquetExponents at omega, subharmonic nu).

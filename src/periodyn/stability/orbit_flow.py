@@ -13,7 +13,9 @@ ladder's first rung. No reduced system, no spectra, no ladder set-up, no balanci
 registry's rule (:func:`periodyn.stability.methods.flow_choice`) sends stiff orbits to the
 ladder. The whole climb is one compiled call
 (:func:`periodyn.kernels.solvers.sampled_flow.certified_flow`): for a one-degree-of-freedom
-orbit, a few 2 x 2 products per step and microseconds per orbit.
+orbit, a few 2 x 2 products per step and microseconds per orbit; a chain's sparse step
+generators multiply by their nonzero entries, and the multipliers of mid-size orbits come
+from LAPACK's double-shift QR (:mod:`periodyn.kernels.solvers.real_eigvals`).
 """
 
 from __future__ import annotations
@@ -55,6 +57,25 @@ class SampledGenerator:
         flat = A.reshape(A.shape[0], -1)
         varying = varying_entries(flat)
         return cls(A[0].copy(), varying, flat[:, varying])
+
+    @classmethod
+    def from_blocks(cls, K: np.ndarray, C: np.ndarray) -> "SampledGenerator":
+        """The generator [[0, I], [K_j, C_j]] (2n, 2n) from its lower blocks K, C (p, n, n) at
+        the samples, without forming the full samples; a block given as a broadcast view
+        (stride 0 along the samples) is constant."""
+        p, n = K.shape[0], K.shape[1]
+        constant = np.eye(2 * n, k=n)
+        constant[n:, :n], constant[n:, n:] = K[0], C[0]
+        at, values = [np.zeros(0, np.intp)], [np.zeros((p, 0))]
+        for first, B in ((0, K), (n, C)):
+            if B.strides[0] != 0:
+                flat = B.reshape(p, -1)
+                v = varying_entries(flat)
+                at.append(2 * n * n + (v // n) * (2 * n) + first + v % n)  # flat index in (2n, 2n)
+                values.append(flat[:, v])
+        at = np.concatenate(at)
+        order = np.argsort(at)
+        return cls(constant, at[order], np.concatenate(values, axis=1)[:, order])
 
     @property
     def samples(self) -> np.ndarray:

@@ -81,6 +81,20 @@ def test_expm_matches_scipy(d, norm):
     np.testing.assert_allclose(out, ref, atol=5e-14 * np.abs(ref).max() * max(1.0, norm))
 
 
+@pytest.mark.parametrize("norm", [0.3, 3.0, 8.0])
+def test_expm_of_a_sparse_generator_matches_scipy(norm):
+    """A chain's step generator h [[0, I], [-K, -C]] (tridiagonal K: few nonzero entries,
+    X^2 and X^3 from them)."""
+    n = 40
+    K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1) + np.diag(RNG.uniform(0.5, 1.5, n))
+    X = np.block([[np.zeros((n, n)), np.eye(n)], [-K, -0.05 * np.eye(n)]])
+    X *= norm / np.abs(X).sum(axis=0).max()
+    out, scratch = np.empty((2 * n, 2 * n)), np.empty((6, 2 * n, 2 * n))
+    _expm(X, out, scratch)
+    ref = sla.expm(X)
+    np.testing.assert_allclose(out, ref, atol=5e-14 * np.abs(ref).max() * max(1.0, norm))
+
+
 @pytest.mark.parametrize("scale", [1e80, np.inf])
 def test_expm_of_an_overflowing_generator_is_nan_at_once(scale):
     """||X^4|| beyond the double range: NaN (a non-finite monodromy, reported by the caller)

@@ -101,6 +101,26 @@ def test_sampled_generator_keeps_only_the_varying_entries():
     assert gen.stiffness(1.7, 2) == pytest.approx(np.abs(A).sum(axis=1).max() * T, rel=1e-14)
 
 
+@pytest.mark.parametrize("damping", ["constant", "varying"])
+def test_generator_from_blocks_equals_the_one_from_full_samples(damping):
+    """[[0, I], [K_j, C_j]] from its blocks (a broadcast block taken as constant) equals the
+    generator of the full samples, entry lists included."""
+    rng = np.random.default_rng(4)
+    p, n = 10, 5
+    K = np.repeat(rng.normal(size=(1, n, n)), p, axis=0)
+    K[:, [0, 3, 3], [1, 0, 4]] += rng.normal(size=(p, 3))
+    C = np.broadcast_to(rng.normal(size=(n, n)), (p, n, n))
+    if damping == "varying":
+        C = C.copy()
+        C[:, 2, 2] += rng.normal(size=p)
+    full = np.zeros((p, 2 * n, 2 * n))
+    full[:, :n, n:] = np.eye(n)
+    full[:, n:, :n], full[:, n:, n:] = K, C
+    got, ref = SampledGenerator.from_blocks(K, C), SampledGenerator.from_samples(full)
+    assert np.array_equal(got.varying, ref.varying) and got.varying.size == (4 if damping == "varying" else 3)
+    assert np.array_equal(got.values, ref.values) and np.array_equal(got.constant, ref.constant)
+
+
 @pytest.mark.parametrize("constant_entry", [False, True])
 def test_sparse_monodromy_matches_the_full_samples(constant_entry):
     """The monodromy from the varying entries equals Magnus on the full interpolated samples;
@@ -131,6 +151,23 @@ def test_a_six_by_six_generator_matches_the_monodromy():
     fl = flow_exponents(samples(A, 2 * np.pi, 24), 1.0)
     ref = np.sort(np.abs(reference_multipliers(A, 2 * np.pi)))
     assert fl is not None and np.allclose(np.sort(np.abs(fl.multipliers)), ref, rtol=1e-7)
+
+
+def test_an_eighty_by_eighty_chain_generator_matches_the_monodromy():
+    """A 40-mass chain whose grounding stiffness varies with cos^2 t (half-period samples;
+    sparse step generators, multipliers by the double-shift QR)."""
+    n = 40
+    K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    profile = np.linspace(0.2, 0.6, n)
+
+    def A(t):
+        return np.block([[np.zeros((n, n)), np.eye(n)], [-(K + np.diag(0.5 + profile * np.cos(t) ** 2)),
+                                                         -0.05 * np.eye(n)]])
+
+    fl = flow_exponents(samples(A, 2 * np.pi, 32), 1.0)
+    ref = np.sort(np.abs(reference_multipliers(A, 2 * np.pi)))
+    assert fl is not None and "half period" in fl.reason
+    assert np.allclose(np.sort(np.abs(fl.multipliers)), ref, rtol=1e-7)
 
 
 def duffing():

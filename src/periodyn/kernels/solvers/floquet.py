@@ -14,13 +14,18 @@
 
 Matrix exponentials of the small step generators use scaling and squaring with the
 degree-12 Taylor polynomial (truncation below the unit round-off) evaluated by the
-Paterson-Stockmeyer scheme (5 products).
+Paterson-Stockmeyer scheme (5 products). From d = 16 on, a factor with at most d^2 / 8
+nonzero entries (the step generators of chains and banded models) multiplies by its entries
+(:mod:`periodyn.kernels.solvers.sparse_products`): the commutators of the 6th-order
+generator and the powers X^2..X^4 of the exponential.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from .sparse_products import commutator_either, commutator_entries, matmul_entries, sparse_entries
 
 _TAYLOR = np.array([1.0 / np.prod(np.arange(1.0, k + 1.0)) for k in range(13)])
 _MAGNUS_C = np.sqrt(3.0) / 12.0
@@ -89,14 +94,23 @@ def _expm(X, out, w):
 
     The squarings s are the fewest for which the first neglected Taylor term is below
     the unit round-off, bounded by ||X^13|| <= ||X^4||^3 ||X|| of the scaled matrix
-    (X^2, X^4 are formed before scaling and rescaled exactly by powers of two): for
+    (X^2, X^4 are formed before scaling and rescaled exactly by powers of two; the
+    powers of a sparse X (d >= _BLAS_MIN) from its nonzero entries): for
     the oscillatory step generators ||X^4||^(1/4) is near the spectral radius, well
     below ||X||, so this saves squarings over a plain norm test. out is NaN where ||X^4||
     overflows (the caller reports a non-finite monodromy matrix)."""
     d = X.shape[0]
     X1, X2, X3, X4, T, tmp = w[0], w[1], w[2], w[3], w[4], w[5]
-    _matmul(X, X, X2)
-    _matmul(X2, X2, X4)
+    m = d * d // 8 if d >= _BLAS_MIN else 0  # X sparse: X^2, X^3, X^4 = X X^3 from its entries
+    rows, cols, vals = np.empty(m, np.int64), np.empty(m, np.int64), np.empty(m)
+    count = sparse_entries(X, rows, cols, vals) if m > 0 else -1
+    if count < 0:
+        _matmul(X, X, X2)
+        _matmul(X2, X2, X4)
+    else:
+        matmul_entries(rows, cols, vals, count, 1.0, X, X2)
+        matmul_entries(rows, cols, vals, count, 1.0, X2, X3)
+        matmul_entries(rows, cols, vals, count, 1.0, X3, X4)
     n1, n4 = _norm1(X), _norm1(X4)
     if not (np.isfinite(n1) and np.isfinite(n4)):  # X^4 overflows: no squaring count resolves it
         out[:] = np.nan
@@ -114,7 +128,10 @@ def _expm(X, out, w):
             X1[i, j] = X[i, j] * s1
             X2[i, j] *= s2
             X4[i, j] *= s4
-    _matmul(X2, X1, X3)
+    if count < 0:
+        _matmul(X2, X1, X3)
+    else:
+        X3 *= s1 * s2
     c = _TAYLOR
     # p = B0 + X4 (B1 + X4 (B2 + c12 X4)), B_j = c_4j I + c_4j+1 X + c_4j+2 X^2 + c_4j+3 X^3
     for i in range(d):
@@ -172,12 +189,14 @@ def _generator6(A, step, h, G, w):
     for i in range(d):
         for j in range(d):
             X[i, j] = 2.0 * a3[i, j] + C[i, j]
-    _commutator(a1, X, Y, tmp)  # -60 C2
+    if not commutator_either(a1, X, Y, _BLAS_MIN):  # -60 C2 (the generator is often sparse)
+        _commutator(a1, X, Y, tmp)
     for i in range(d):
         for j in range(d):
             X[i, j] = -20.0 * a1[i, j] - a3[i, j] + C[i, j]
             Y[i, j] = a2[i, j] - Y[i, j] / 60.0
-    _commutator(X, Y, C, tmp)
+    if not commutator_either(X, Y, C, _BLAS_MIN):
+        _commutator(X, Y, C, tmp)
     for i in range(d):
         for j in range(d):
             G[i, j] = a1[i, j] + a3[i, j] / 12.0 + C[i, j] / 240.0
@@ -219,27 +238,17 @@ def _commutator(X, Y, out, tmp):
 
 @njit(cache=True)
 def _commutator_sparse(X, S, out, tmp):
-    """out = X S - S X, by the nonzero entries of S when they are fewer than an eighth of
+    """out = X S - S X, by the nonzero entries of S when they are at most an eighth of
     them (an orbit's generator varies in few entries, and S is a difference of its
     values), else by two products; tmp: scratch."""
     d = X.shape[0]
-    nonzero = 0
-    for i in range(d):
-        for k in range(d):
-            if S[i, k] != 0.0:
-                nonzero += 1
-    if 8 * nonzero > d * d:
+    m = d * d // 8
+    rows, cols, vals = np.empty(m, np.int64), np.empty(m, np.int64), np.empty(m)
+    count = sparse_entries(S, rows, cols, vals)
+    if count < 0:
         _commutator(X, S, out, tmp)
-        return
-    out[:, :] = 0.0
-    for i in range(d):
-        for k in range(d):
-            v = S[i, k]
-            if v != 0.0:
-                for r in range(d):  # (X S)[:, k] += X[:, i] v
-                    out[r, k] += X[r, i] * v
-                for c in range(d):  # (S X)[i, :] += v X[k, :]
-                    out[i, c] -= v * X[k, c]
+    else:
+        commutator_entries(X, rows, cols, vals, count, out)
 
 
 @njit(cache=True)

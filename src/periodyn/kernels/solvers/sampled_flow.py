@@ -10,11 +10,11 @@ kept as a constant matrix (the first sample) and the flat entries that vary alon
   ones they resolve) at the three Gauss angles of each of ``steps`` equal steps over 2 pi, from
   the samples' discrete Fourier coefficients (cos/sin of k theta by the angle-addition
   recurrence).
-* ``sampled_monodromy``: the 6th-order Magnus transition matrix (``floquet._magnus_steps``) of
-  that interpolant over a span.
+* ``sampled_monodromy``: the 6th-order Magnus transition matrix (the steps of
+  ``floquet._magnus_steps``) of that interpolant over a span.
 * ``certified_flow``: the whole step-doubling climb in one call: the half-period test, the
   monodromy at START / 2, START, 2 START, ... steps, its multipliers (2 x 2 in closed form,
-  else LAPACK dgeev) and the error test of the rule written in
+  else LAPACK's double-shift QR) and the error test of the rule written in
   :mod:`periodyn.stability.orbit_flow`.
 """
 
@@ -23,8 +23,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .floquet import _magnus_steps
-from .magnus_ladder import GAUSS_NODES_3, _eigvals
+from .floquet import _expm, _generator6, _matmul
+from .magnus_ladder import GAUSS_NODES_3
+from .real_eigvals import eigvals_small
 
 
 @njit(cache=True)
@@ -115,15 +116,31 @@ def _moving(values):
 @njit(cache=True)
 def _rung(constant, varying, a, b, moving, first, steps, span, phi):
     """phi: the Magnus transition matrix over span (s) with ``steps`` steps of the series a, b
-    of the varying entries; entries not ``moving`` keep their value ``first``."""
+    of the varying entries; entries not ``moving`` keep their value ``first``. The three
+    Gauss-point matrices of a step are kept in one buffer whose varying entries are rewritten
+    per step (``floquet._magnus_steps`` on one step at a time)."""
     d, v = constant.shape[0], varying.shape[0]
     G = _at_gauss(a, b, steps)
-    A = np.empty((3 * steps, d, d))
-    for g in range(3 * steps):
+    A = np.empty((3, d, d))
+    for g in range(3):
         A[g] = constant
         for e in range(v):
-            A[g, varying[e] // d, varying[e] % d] = G[g, e] if moving[e] else first[e]
-    _magnus_steps(A, span / steps, phi, 3)
+            if not moving[e]:
+                A[g, varying[e] // d, varying[e] % d] = first[e]
+    w = np.empty((6, d, d))
+    step_generator, E, other = np.empty((d, d)), np.empty((d, d)), np.empty((d, d))
+    for step in range(steps):
+        for g in range(3):
+            for e in range(v):
+                if moving[e]:
+                    A[g, varying[e] // d, varying[e] % d] = G[3 * step + g, e]
+        _generator6(A, 0, span / steps, step_generator, w)
+        if step == 0:
+            _expm(step_generator, phi, w)
+        else:
+            _expm(step_generator, E, w)
+            _matmul(E, phi, other)
+            phi[:, :] = other
 
 
 @njit(cache=True)
@@ -138,9 +155,9 @@ def sampled_monodromy(constant, varying, values, steps, span, phi):
 @njit(cache=True)
 def _multipliers(phi):
     """Eigenvalues (d,) of the real phi; 2 x 2 in closed form (the larger root first, the
-    other from the determinant: no cancellation)."""
+    other from the determinant: no cancellation), else by :func:`eigvals_small`."""
     if phi.shape[0] != 2:
-        return _eigvals(phi)
+        return eigvals_small(phi)
     a, b, c, e = phi[0, 0], phi[0, 1], phi[1, 0], phi[1, 1]
     half, det = 0.5 * (a + e), a * e - b * c
     root = np.sqrt(complex(half * half - det))
