@@ -146,22 +146,24 @@ def test_worker_start_rule_uses_the_measured_start(model, monkeypatch):
     not the prior), which the next decision uses."""
     from periodyn.engine import backends
 
-    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": -1.0})
+    served = ExecutionOptions(worker_start="forkserver")  # the rule of workers from the fork server
+    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": -1.0, "fork": 0.05})
     monkeypatch.setattr(backends, "_STARTED", [True])
-    assert backends._worth_starting(0.1, 0.01, 2)   # 0.1 s left, up at once (the -1 s prior)
+    assert backends._worth_starting(0.1, 0.01, 2, served)   # 0.1 s left, up at once (the -1 s prior)
     backends.START_COST["later"] = 0.2
-    assert not backends._worth_starting(0.1, 0.01, 2)  # 0.1 s left: done before a worker is up
-    assert backends._worth_starting(1.0, 0.01, 2)      # 1 s left: 0.4 s saved
+    assert not backends._worth_starting(0.1, 0.01, 2, served)  # 0.1 s left: done before a worker is up
+    assert backends._worth_starting(1.0, 0.01, 2, served)      # 1 s left: 0.4 s saved
     # 0.08 s left once they are up: 0.04 s saved with one more process, 0.06 s with three,
     # against a 0.05 s wait for the last chunk
     backends.START_COST["later"] = 0.22
-    assert backends._worth_starting(0.3, 0.1, 4) and not backends._worth_starting(0.3, 0.1, 2)
+    assert backends._worth_starting(0.3, 0.1, 4, served) and not backends._worth_starting(0.3, 0.1, 2, served)
     backends._record_start(SimpleNamespace(ready_after=0.3, created=0.0), 0.05)
     assert backends.START_COST["later"] == pytest.approx(0.35)  # up after 0.3 s, shut down in 0.05 s
     never_up = SimpleNamespace(ready_after=None, created=time.perf_counter() - 1.0)
     backends._record_start(never_up, 0.0)  # closed before a worker was up: at least 1 s
     assert backends.START_COST["later"] >= 1.0
-    sweep(model, OMEGA, M, workers=2, execution=ExecutionOptions(chunk_size=4, eager_workers=True), progress=False)
+    sweep(model, OMEGA, M, workers=2, execution=ExecutionOptions(chunk_size=4, eager_workers=True, worker_start="forkserver"),
+          progress=False)
     measured = backends.START_COST["later"]  # a measurement, or the 1 s lower bound if no worker came up
     assert np.isfinite(measured) and measured > 0.0
 
@@ -171,17 +173,18 @@ def test_first_start_counts_the_time_the_fork_server_already_had(monkeypatch):
     chunks: the expected start is the prior less the time since, at least "later"."""
     from periodyn.engine import backends
 
-    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": 0.2})
+    served = ExecutionOptions(worker_start="forkserver")
+    monkeypatch.setattr(backends, "START_COST", {"first": 2.0, "later": 0.2, "fork": 0.05})
     monkeypatch.setattr(backends, "_STARTED", [])
     monkeypatch.setattr(backends, "_SERVER_SINCE", [])
-    assert backends._start_cost() == 2.0
+    assert backends._start_cost(served) == 2.0
     backends._SERVER_SINCE.append(time.perf_counter() - 1.5)
-    assert backends._start_cost() == pytest.approx(0.5, abs=0.05)
+    assert backends._start_cost(served) == pytest.approx(0.5, abs=0.05)
     backends._SERVER_SINCE[0] -= 5.0
-    assert backends._start_cost() == 0.2
+    assert backends._start_cost(served) == 0.2
     backends._STARTED.append(True)
     backends._SERVER_SINCE.clear()
-    assert backends._start_cost() == 0.2
+    assert backends._start_cost(served) == 0.2
 
 
 def test_an_unused_early_fork_server_is_stopped_at_exit(monkeypatch):

@@ -7,8 +7,11 @@ from __future__ import annotations
 
 import fcntl
 import os
+import subprocess
+import sys
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,8 +27,8 @@ OMEGA = np.sqrt(9.81) * np.linspace(0.2, 1.3, 16)
 EAGER = {"chunk_size": 3, "eager_workers": True}
 
 
-def pools_made(monkeypatch) -> list[str]:
-    """Records the kind of every pool the sweeps of the test start."""
+def pools_made() -> list[str]:
+    """Records the kind of every pool the sweeps of this process start."""
     made = []
     for kind in ("ForkedPool", "FedPool"):
         original = getattr(backends, kind)
@@ -34,26 +37,37 @@ def pools_made(monkeypatch) -> list[str]:
             made.append(_kind)
             return _original(*args, **kwargs)
 
-        monkeypatch.setattr(backends, kind, record)
+        setattr(backends, kind, record)
     return made
 
 
-def test_forked_and_fork_server_workers_equal_the_serial_sweep(monkeypatch):
-    made = pools_made(monkeypatch)
+def in_fresh_interpreter(body: str) -> None:
+    """Run this module's function ``body`` in a new interpreter: whether a fork is allowed
+    depends on the threads of the whole process, and earlier tests in this one leave some
+    (Dask's, the fork server's start threads while it loads)."""
+    root = Path(__file__).resolve().parents[2]
+    run = subprocess.run([sys.executable, "-c", f"from tests.integration.test_worker_start import {body}; {body}()"],
+                         cwd=root, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+
+
+def forked_and_served() -> None:
+    made = pools_made()
     model = pendulum(samples=24)
     serial = sweep(model, OMEGA, 4, progress=False)
-    assert pools.fork_problem() == ""  # the test process runs no other thread
-    forked = sweep(model, OMEGA, 4, workers=2, execution=ExecutionOptions(**EAGER), progress=False)
+    assert pools.fork_problem() == ""  # a fresh process runs no other thread
+    forked = sweep(model, OMEGA, 4, workers=2, execution=ExecutionOptions(**EAGER), progress=True)
+    assert pools.fork_problem() == ""  # nor after a forked sweep with a progress bar
     served = sweep(model, OMEGA, 4, workers=2, progress=False,
                    execution=ExecutionOptions(**EAGER, worker_start="forkserver"))
-    assert made == ["ForkedPool", "FedPool"]
+    assert made == ["ForkedPool", "FedPool"], made
     for parallel in (forked, served):
         assert parallel.attrs["backend"] == "processes"
         xr.testing.assert_identical(without_attrs(parallel), without_attrs(serial))
 
 
-def test_no_fork_while_another_thread_runs(monkeypatch):
-    made = pools_made(monkeypatch)
+def no_fork_while_another_thread_runs() -> None:
+    made = pools_made()
     stop = threading.Event()
     other = threading.Thread(target=stop.wait, daemon=True)
     other.start()
@@ -63,13 +77,21 @@ def test_no_fork_while_another_thread_runs(monkeypatch):
     finally:
         stop.set()
         other.join()
-    assert made == ["FedPool"] and ds.attrs["backend"] == "processes"
+    assert made == ["FedPool"] and ds.attrs["backend"] == "processes", made
     deadline = time.monotonic() + 120  # a pool closed while its workers were starting stops once they are up
     while threading.active_count() > 1 and time.monotonic() < deadline:
         for thread in threading.enumerate():
             if thread is not threading.main_thread():
                 thread.join(1.0)
     assert pools.fork_problem() == ""
+
+
+def test_forked_and_fork_server_workers_equal_the_serial_sweep():
+    in_fresh_interpreter("forked_and_served")
+
+
+def test_no_fork_while_another_thread_runs():
+    in_fresh_interpreter("no_fork_while_another_thread_runs")
 
 
 @pytest.mark.parametrize("forget", [True, False])

@@ -20,6 +20,13 @@ DELAY = 1.0  # s before anything is shown
 LINE_INTERVAL = 5.0  # s between plain progress lines
 
 
+class _Bar(tqdm):
+    """tqdm without its monitor thread (which outlives the bar, and while it runs this
+    process's next sweeps cannot fork their workers: :func:`periodyn.engine.pools.fork_problem`)."""
+
+    monitor_interval = 0
+
+
 def _seconds(s: float) -> str:
     s = int(round(s))
     return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}" if s >= 3600 else f"{s // 60}:{s % 60:02d}"
@@ -42,7 +49,7 @@ class Progress:
         self.first: tuple[float, int] | None = None  # (time, done) at the first finished chunk
         if mode is True or (mode is None and self.stream.isatty()):
             size = shutil.get_terminal_size()  # 80 x 24 when the terminal reports 0 x 0
-            self.bar = tqdm(total=total, initial=initial, desc=description, unit="pt", delay=DELAY,
+            self.bar = _Bar(total=total, initial=initial, desc=description, unit="pt", delay=DELAY,
                             file=self.stream, ncols=size.columns, nrows=size.lines, smoothing=0.1)
         self.lines = mode is None and self.bar is None
 
