@@ -42,9 +42,10 @@ def sparse_entries(S, rows, cols, vals):
 
 
 @njit(cache=True)
-def _left_product(rows, cols, vals, count, factor, A, out):
-    """out = (factor S) A for dense A (d, d), S given by its ``count`` entries: a row
-    of A scaled into a row of out per entry (contiguous, vectorised)."""
+def matmul_entries(rows, cols, vals, count, factor, A, out):
+    """out = (factor S) A for dense A (d, d) and S given by its ``count`` entries
+    (:func:`sparse_entries`): a row of A scaled into a row of out per entry (contiguous,
+    vectorised)."""
     d = A.shape[0]
     out[:, :] = 0.0
     for e in range(count):
@@ -59,18 +60,11 @@ def commutator_entries(X, rows, cols, vals, count, out):
     (:func:`sparse_entries`); X S as the transpose of S^T X^T (rows, not columns)."""
     d = X.shape[0]
     Xt, XSt = np.ascontiguousarray(X.T), np.empty((d, d))
-    _left_product(cols, rows, vals, count, 1.0, Xt, XSt)  # S^T X^T
-    _left_product(rows, cols, vals, count, 1.0, X, out)  # S X
+    matmul_entries(cols, rows, vals, count, 1.0, Xt, XSt)  # S^T X^T
+    matmul_entries(rows, cols, vals, count, 1.0, X, out)  # S X
     for i in range(d):
         for j in range(d):
             out[i, j] = XSt[j, i] - out[i, j]
-
-
-@njit(cache=True)
-def matmul_entries(rows, cols, vals, count, factor, A, out):
-    """out = (factor S) A for dense A (d, d) and S given by its ``count`` entries
-    (:func:`sparse_entries`)."""
-    _left_product(rows, cols, vals, count, factor, A, out)
 
 
 @njit(cache=True)
