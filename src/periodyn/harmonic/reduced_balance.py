@@ -152,7 +152,7 @@ class ReducedBalance:
         taken = tuple(int(t) for t in np.flatnonzero(used))
         Phi = self.modes.shapes
         if (k, taken) not in self._modal:
-            self._modal[k, taken] = np.concatenate([Phi.T @ self.samples(t) @ Phi[:, :k] for t in taken], axis=2)
+            self._modal[k, taken] = np.concatenate([Phi.T @ (self.samples(t) @ Phi[:, :k]) for t in taken], axis=2)
         if k not in self._modal_means:  # Phi^T Xbar_t Phi_l, (Q, n, k)
             self._modal_means[k] = np.einsum("ni,qnj->qij", Phi, self.mean_stack @ Phi[:, :k], optimize=True)
         return used, order, self._modal[k, taken], self._mean_sums(w, used, order, self._modal_means[k])
