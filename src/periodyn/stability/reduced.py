@@ -14,15 +14,15 @@ lambda by the first Schur-complement term
     D_a = s_a^2 Mbar_hh + s_a Cbar_hh + Kbar_hh        (the mean truncated block),
 
 (r_h and s_h by products on band + 2m + 1 angles, band the highest coefficient harmonic
-above the noise floors of the terms taken, measured on the coupling blocks, linear in n - k; D_a^-1 by Jacobi sweeps on its
-diagonal, O(m (n-k)^2), :mod:`periodyn.stability.schur`), and the corrected growth per period is
-Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is
-certified when the bound is at most STABILITY_TOL max(1, |G|) and below the distance of
-G from the verdict's threshold; otherwise (also near a double exponent, y^H Q' x -> 0,
-where no centred null vector exists, or where a truncated mode's diagonal estimate comes
-near the top) the mode count doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
-model. Exponents of the truncated modes are their mean diagonal estimates (roots of
-s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
+above the noise floors of the terms taken, measured on the coupling blocks, linear in n - k;
+D_a^-1 by Jacobi sweeps on its diagonal, O(m (n-k)^2), :mod:`periodyn.stability.schur`); the
+corrected growth per period is Re(lambda + d_lambda) T, its error bound ladder error +
+2 |d_lambda| T. A speed is certified when the bound is at most STABILITY_TOL max(1, |G|) and
+below the distance of G from the verdict's threshold; otherwise (also near a double exponent,
+y^H Q' x -> 0, where no centred null vector exists, or where a truncated mode's diagonal
+estimate comes near the top) the mode count doubles, and a speed not certified with fewer
+than n modes goes to "auto" on the full model. Exponents of the truncated modes are their
+mean diagonal estimates (roots of s^2 + c_ii s + k_ii): a sweep records 2n exponents.
 """
 
 from __future__ import annotations
@@ -41,8 +41,7 @@ from .magnus import MagnusLadder
 from .schur import harmonic_offsets, null_vectors, truncated_solve
 
 __all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
-           "reduced_costs", "LADDER_TOL",
-           "START_MODES", "AUTO_MIN_COORDINATES"]
+           "reduced_costs", "LADDER_TOL", "START_MODES", "AUTO_MIN_COORDINATES"]
 
 # error goal of log max|mu| for the reduced ladder: 1e-8 leaves the bound's budget to the
 # correction (2 |d_lambda| T up to 6.7e-7 on 16-128 elements against STABILITY_TOL = 1e-6) and
@@ -103,14 +102,9 @@ class ReducedStability:
         self._hill: dict[tuple[int, int], np.ndarray] = {}
         self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
 
-    def _projected(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra M, C, K of the model on its k lowest modes, (2K+1, k, k[, P])."""
-        return tuple(modal_spectrum(X, self.modes.shapes[:, :k]) for X in self.model._power_spectra[:3])
-
     @cached_property
     def _means(self) -> tuple[np.ndarray, ...]:
-        """The mean coefficients on all n modes (of real samples: real), M (n, n), C (Pc, n, n),
-        K (Pk, n, n)."""
+        """The mean coefficients on all n modes (real), M (n, n), C (Pc, n, n), K (Pk, n, n)."""
         out = []
         for X in self.model._power_spectra[:3]:
             K0 = (X.shape[0] - 1) // 2
@@ -119,14 +113,11 @@ class ReducedStability:
         return tuple(out)
 
     def blocks(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra of the coupling blocks of k kept modes, per term [M, C_p.., K_p..]: hl
-        (2K+1, n-k, k, Q) and lh (2K+1, k, n-k, Q), and the noise data of the modal terms as
-        the correction sees them: harmonic magnitudes (Q, 2K+1) (the mean over all n modes,
-        the others over the blocks hl and lh), noise floors, omega-powers and tops
-        (:func:`~periodyn.harmonic.truncation.coefficient_terms`; per-block floors measured
-        against the scale of the whole term: the blocks' own harmonics above noise are kept,
-        those of the truncated block that no product takes do not count). Built once per k:
-        4 n^2 k products per harmonic instead of the 4 n^3 of all n modes."""
+        """Spectra of the coupling blocks of k kept modes per term [M, C_p.., K_p..], hl (2K+1,
+        n-k, k, Q) and lh (2K+1, k, n-k, Q) (4 n^2 k products per harmonic, not the 4 n^3 of all
+        modes), and the modal terms' harmonic magnitudes (Q, 2K+1) as the products see them
+        (the mean over all n modes, the others over hl and lh: per-block noise floors against
+        the scale of the whole term), noise floors, omega-powers and tops (built once per k)."""
         if k not in self._blocks:
             Phi = self.modes.shapes
             l, h = Phi[:, :k], Phi[:, k:]
@@ -202,10 +193,9 @@ class ReducedStability:
         return self._hill[k, m]
 
     def kept(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P]) (the block of ``M``, ``C``, ``K``,
-        projected alone: the same whether or not those are built)."""
+        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P])."""
         if k not in self._kept:
-            self._kept[k] = self._projected(k)
+            self._kept[k] = tuple(modal_spectrum(X, self.modes.shapes[:, :k]) for X in self.model._power_spectra[:3])
         return self._kept[k]
 
     def ladder(self, k: int) -> _Ladder:
@@ -213,12 +203,6 @@ class ReducedStability:
         if k not in self._ladders:
             self._ladders[k] = _Ladder(*self.kept(k), LADDER_TOL)
         return self._ladders[k]
-
-    def _at(self, w: float, rows: slice, cols: slice) -> tuple[np.ndarray, ...]:
-        """Mean modal coefficients M, C, K (r, c) of the block (rows, cols) at speed w."""
-        M, C, K = self._means
-        return M[rows, cols], np.tensordot(w ** np.arange(len(C)), C[:, rows, cols], 1), \
-            np.tensordot(w ** np.arange(len(K)), K[:, rows, cols], 1)
 
     def truncated_blocks(self, w: float, k: int) -> np.ndarray:
         """The mean truncated blocks at speed w side by side and transposed, [M_hh^T, C_hh^T,
@@ -241,8 +225,7 @@ class ReducedStability:
     def mean_exponents(self, w: float, k: int) -> np.ndarray:
         """Exponents (2k,) of the kept modes' mean system at speed w (the representatives'
         first guess: a Floquet exponent lies near one of them)."""
-        l = slice(0, k)
-        M, C, K = self._at(w, l, l)
+        M, C, K = (np.tensordot(w ** np.arange(len(X)), X[:, :k, :k], 1) for X in (self._means[0][None], *self._means[1:]))
         A = np.block([[np.zeros((k, k)), np.eye(k)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
         return np.linalg.eigvals(A)
 
