@@ -184,7 +184,8 @@ class SpeedSolver:
         # HB per chunk of speeds: jitted banded LU for narrow small bands; stacked real dense
         # LAPACK (in half-period symmetry classes) for small systems whose band is wide;
         # otherwise speed by speed
-        self.balance = BalanceBatch(op, half_period_signs(*model._power_spectra[:3]))
+        self.balance = BalanceBatch(op, model.derived("half_period_signs", None,
+                                                      lambda: half_period_signs(*model._power_spectra[:3])))
         self.storage, self.batch_balance = self.balance.storage, self.balance.kind
         self.speed_stability = SpeedStability(model, op, self.method)
         self.dense_hill = self.stability and self.speed_stability.dense_hill
@@ -275,8 +276,9 @@ class SpeedSolver:
         k = self.model.n
         if self.reduced_balance and (self.method == "reduced" or reduced_pays(self.speed_stability, w).any()):
             if self._reduced is None:
-                mean = self.speed_stability.prepared("reduced").modes
-                self._reduced = ReducedBalance(self.model, self.m, self.pattern.band, mean)
+                mean = self.speed_stability.prepared("reduced").modes  # kept with the model, as these
+                self._reduced = self.model.derived("reduced_balance", (self.m, self.pattern.band),
+                                                   lambda: ReducedBalance(self.model, self.m, self.pattern.band, mean))
             k = guarded_modes(self._reduced.modes, min(START_MODES, self.model.n), self.m, float(w.max()))
         if k >= self.model.n:
             return (*self.balance.solve_many(w, self.batch_balance), modes)
@@ -328,7 +330,8 @@ class SpeedSolver:
         """HB truncation indicators (S,) of the harmonics q (S, 2m+1, n) at speeds w (S,);
         warns (BalanceTruncationWarning) where one is above BALANCE_TRUNCATION_TOL."""
         if self._truncated is None:
-            self._truncated = SweepTruncation(self.model._power_spectra[:4], self.m)
+            self._truncated = self.model.derived("sweep_truncation", self.m,
+                                                 lambda: SweepTruncation(self.model._power_spectra[:4], self.m))
         indicator = self._truncated(q, w)
         high = np.flatnonzero(indicator > BALANCE_TRUNCATION_TOL)
         if high.size:

@@ -311,6 +311,22 @@ class OmegaSplitModel(_Sampled):
                 fourier_coefficients(np.moveaxis(self.stiffness, 0, -1)), fourier_coefficients(np.moveaxis(self.force, 0, -1)),
                 fourier_coefficients(self.output_maps))
 
+    def derived(self, kind: str, key, build: Callable[[], object]):
+        """What ``build()`` makes of this model for ``key``: per-model data of the solvers
+        above (mean modes, projections, resampled coefficients), kept with the model like its
+        spectra, so that later sweeps of it and the workers forked from its process reuse it.
+        One key per kind (another key replaces the kind's entry: memory stays bounded); a
+        build must depend on the model and the key only. Not pickled."""
+        store = self.__dict__.setdefault("_derived", {})
+        if kind not in store or store[kind][0] != key:
+            store[kind] = (key, build())
+        return store[kind][1]
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("_derived", None)  # rebuilt where needed, never shipped
+        return state
+
     def with_samples(self, p: int) -> "OmegaSplitModel":
         """This model sampled at p angles (needs ``rebuild``)."""
         if p == self.samples:

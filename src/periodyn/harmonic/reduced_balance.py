@@ -69,7 +69,7 @@ class ReducedBalance:
         for p in range(Pc):
             self.row_terms[p + 1] = np.maximum(self.row_terms[p + 1], m * np.abs(Cs[d + K, ..., p]).max(axis=(0, 2)))
         self.row_terms[2] = np.maximum(self.row_terms[2], m * m * np.abs(Ms[d + K]).max(axis=(0, 2)))
-        self.theta, self.terms, self._samples = theta, [X[K - band: K + band + 1] for X in terms], {}
+        self.theta, self.terms = theta, [X[K - band: K + band + 1] for X in terms]
         self.mean_stack = np.stack([X[K].real for X in terms])  # their mean blocks, (Q, n, n)
         self.derivative = np.array([0] + [1] * Pc + [2] * Pk)  # the samples a term multiplies: q'', q' or q
         self.real_synthesis = half_synthesis(m, theta)  # a real solution's harmonics a >= 0 suffice, (P, 2(m+1))
@@ -84,18 +84,12 @@ class ReducedBalance:
         self._modal: dict[tuple[int, tuple[int, ...]], np.ndarray] = {}
         self._modal_means: dict[int, np.ndarray] = {}
 
-    def samples(self, t: int) -> np.ndarray:
-        """Term t at the P angles (P, n, n) (built on first use: the products take only the
-        terms with harmonics above noise)."""
-        if t not in self._samples:
-            self._samples[t] = synthesize(self.terms[t], self.theta)
-        return self._samples[t]
-
     def stacked(self, taken: tuple[int, ...]) -> np.ndarray:
-        """The samples of the terms ``taken`` side by side, (P, n, T n) (one matrix product per
-        angle for all of them; built once per set of terms)."""
+        """The terms ``taken`` at the P angles side by side, (P, n, T n) (one matrix product per
+        angle for all of them; built once per set of terms: the products take only the terms
+        with harmonics above noise)."""
         if taken not in self._stacked:
-            self._stacked[taken] = np.concatenate([self.samples(t) for t in taken], axis=2)
+            self._stacked[taken] = np.concatenate([synthesize(self.terms[t], self.theta) for t in taken], axis=2)
         return self._stacked[taken]
 
     def kept_operator(self, k: int) -> HarmonicOperator:
@@ -152,7 +146,9 @@ class ReducedBalance:
         taken = tuple(int(t) for t in np.flatnonzero(used))
         Phi = self.modes.shapes
         if (k, taken) not in self._modal:
-            self._modal[k, taken] = np.concatenate([Phi.T @ self.samples(t) @ Phi[:, :k] for t in taken], axis=2)
+            X, n = self.stacked(taken), self.n
+            self._modal[k, taken] = np.concatenate([Phi.T @ (X[:, :, i * n: (i + 1) * n] @ Phi[:, :k])
+                                                    for i in range(len(taken))], axis=2)
         if k not in self._modal_means:  # Phi^T Xbar_t Phi_l, (Q, n, k)
             self._modal_means[k] = np.einsum("ni,qnj->qij", Phi, self.mean_stack @ Phi[:, :k], optimize=True)
         return used, order, self._modal[k, taken], self._mean_sums(w, used, order, self._modal_means[k])

@@ -121,16 +121,19 @@ def project(model: OmegaSplitModel, basis: np.ndarray, frequencies: np.ndarray |
                         Phi, None if frequencies is None else np.asarray(frequencies, float), model)
 
 
-def modal_spectrum(X: np.ndarray, basis: np.ndarray) -> np.ndarray:
-    """Phi^T X_k Phi (2K+1, k, k[, P]) of a two-sided spectrum X (2K+1, n, n[, P]) of real
-    samples (index k+K; P omega-powers) on the columns of basis Phi (n, k): the harmonics
-    k >= 0 by real products of their real and imaginary parts, k < 0 their conjugates (the
-    spectrum of the projected samples, without transforming them again)."""
+def modal_spectrum(X: np.ndarray, basis: np.ndarray, right: np.ndarray | None = None) -> np.ndarray:
+    """Phi^T X_k Psi (2K+1, a, b[, P]) of a two-sided spectrum X (2K+1, n, n[, P]) of real
+    samples (index k+K; P omega-powers) on the columns of basis Phi (n, a) and right Psi
+    (n, b) (default Phi): the harmonics k >= 0 by real products of their real and imaginary
+    parts (the narrower side first), k < 0 their conjugates (the spectrum of the projected
+    samples, without transforming them again)."""
     K = (X.shape[0] - 1) // 2
+    right = basis if right is None else right
     Y = np.moveaxis(X[K:], -1, 1) if X.ndim == 4 else X[K:, None]  # (K+1, P, n, n)
-    half = np.empty(Y.shape[:2] + (basis.shape[1],) * 2, complex)
-    half.real = basis.T @ np.ascontiguousarray(Y.real) @ basis
-    half.imag = basis.T @ np.ascontiguousarray(Y.imag) @ basis
+    half = np.empty(Y.shape[:2] + (basis.shape[1], right.shape[1]), complex)
+    for part, Z in (("real", Y.real), ("imag", Y.imag)):
+        Z = np.ascontiguousarray(Z)
+        setattr(half, part, basis.T @ (Z @ right) if right.shape[1] < basis.shape[1] else basis.T @ Z @ right)
     half = np.moveaxis(half, 1, -1) if X.ndim == 4 else half[:, 0]
     return np.concatenate([np.conj(half[:0:-1]), half])
 

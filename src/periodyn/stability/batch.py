@@ -45,15 +45,13 @@ class SpeedStability:
         self.method = method_named(method)
         self.m, self.n = harmonic.m, model.n
         used = [method_named(name) for name in (self.method.name, *self.method.delegates)]
-        self._prepared = {}
         self.dense_hill = (any(entry.name == "dense" for entry in used)
                            and 8.0 * harmonic.powers * (2 * harmonic.pattern.size) ** 2 <= DENSE_TERMS_BYTES)
 
     def prepared(self, name: str):
-        """What method ``name``'s ``prepare`` builds for the model (once, on first use)."""
-        if name not in self._prepared:
-            self._prepared[name] = method_named(name).prepare(self.model)
-        return self._prepared[name]
+        """What method ``name``'s ``prepare`` builds for the model (once per model, on first
+        use: kept with the model, :meth:`~periodyn.system.OmegaSplitModel.derived`)."""
+        return self.model.derived(f"prepared {name}", None, lambda: method_named(name).prepare(self.model))
 
     def hill_choices(self, w: np.ndarray) -> list[tuple[str, str, float]]:
         """Hill method at each speed, why, and its estimated seconds: a method that hands

@@ -14,15 +14,15 @@ lambda by the first Schur-complement term
     D_a = s_a^2 Mbar_hh + s_a Cbar_hh + Kbar_hh        (the mean truncated block),
 
 (r_h and s_h by products on band + 2m + 1 angles, band the highest coefficient harmonic
-above the noise floors of the terms taken, linear in n - k; D_a^-1 by Jacobi sweeps on its
-diagonal, O(m (n-k)^2), :mod:`periodyn.stability.schur`), and the corrected growth per period is
-Re(lambda + d_lambda) T with the error bound ladder error + 2 |d_lambda| T. A speed is
-certified when the bound is at most STABILITY_TOL max(1, |G|) and below the distance of
-G from the verdict's threshold; otherwise (also near a double exponent, y^H Q' x -> 0,
-where no centred null vector exists, or where a truncated mode's diagonal estimate comes
-near the top) the mode count doubles, and a speed not certified with fewer than n modes goes to "auto" on the full
-model. Exponents of the truncated modes are their mean diagonal estimates (roots of
-s^2 + c_ii s + k_ii), so a sweep records 2n exponents.
+above the noise floors of the terms taken, measured on the coupling blocks, linear in n - k;
+D_a^-1 by Jacobi sweeps on its diagonal, O(m (n-k)^2), :mod:`periodyn.stability.schur`); the
+corrected growth per period is Re(lambda + d_lambda) T, its error bound ladder error +
+2 |d_lambda| T. A speed is certified when the bound is at most STABILITY_TOL max(1, |G|) and
+below the distance of G from the verdict's threshold; otherwise (also near a double exponent,
+y^H Q' x -> 0, where no centred null vector exists, or where a truncated mode's diagonal
+estimate comes near the top) the mode count doubles, and a speed not certified with fewer
+than n modes goes to "auto" on the full model. Exponents of the truncated modes are their
+mean diagonal estimates (roots of s^2 + c_ii s + k_ii): a sweep records 2n exponents.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..harmonic.truncation import above_noise, coefficient_terms, coefficient_tops
+from ..harmonic.truncation import above_noise, coefficient_tops, noise_floors
 from ..model.reduce import guarded_modes, mean_modes, modal_spectrum
 from ..numerics.spectra import sample_angles, synthesize
 from ..system import OmegaSplitModel, RheoLinear
@@ -41,8 +41,7 @@ from .magnus import MagnusLadder
 from .schur import harmonic_offsets, null_vectors, truncated_solve
 
 __all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
-           "reduced_costs", "LADDER_TOL",
-           "START_MODES", "AUTO_MIN_COORDINATES"]
+           "reduced_costs", "LADDER_TOL", "START_MODES", "AUTO_MIN_COORDINATES"]
 
 # error goal of log max|mu| for the reduced ladder: 1e-8 leaves the bound's budget to the
 # correction (2 |d_lambda| T up to 6.7e-7 on 16-128 elements against STABILITY_TOL = 1e-6) and
@@ -86,41 +85,52 @@ class _Ladder(MagnusLadder):
 
 
 class ReducedStability:
-    """Per-model data of the method "reduced": the full model's spectra in the modal
-    coordinates of its mean system at ``reference_speed`` rad/s (``M``, ``C``, ``K``: all n
-    modes, built on first use), and per mode count k the kept block's spectra and ladder
-    (the ladder's cost estimate needs only these: a sweep's cost estimate projects no more)."""
+    """Per-model data of the method "reduced" in the modal coordinates of the model's mean
+    system at ``reference_speed`` rad/s, built on first use: the mean coefficients on all n
+    modes, and per mode count k the kept block's spectra and ladder (the ladder's cost
+    estimate needs only these) and the spectra of the coupling blocks (truncated rows and
+    kept columns, and the transpose: the correction's products take no other entries)."""
 
     def __init__(self, model: OmegaSplitModel, reference_speed: float = 0.0):
         self.model, self.n = model, model.n
         self.modes = mean_modes(model, reference_speed)
+        self.powers = (model.damping.shape[0], model.stiffness.shape[0])  # Pc, Pk
         self._ladders: dict[int, _Ladder] = {}
         self._kept: dict[int, tuple[np.ndarray, ...]] = {}
+        self._blocks: dict[int, tuple[np.ndarray, ...]] = {}
         self._couplings: dict[tuple[int, int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
         self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
 
-    def _projected(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra M, C, K of the model on its k lowest modes, (2K+1, k, k[, P])."""
-        return tuple(modal_spectrum(X, self.modes.shapes[:, :k]) for X in self.model._power_spectra[:3])
-
-    @cached_property
-    def _full(self) -> tuple[np.ndarray, ...]:  # M (2K+1, n, n), C and K (2K+1, n, n, P) in all n modes
-        return self._projected(self.n)
-
-    M, C, K = (property(lambda self, i=i: self._full[i]) for i in range(3))
-
-    @cached_property
-    def _noise(self) -> tuple[np.ndarray, ...]:
-        """Harmonic magnitudes, noise floors, omega-powers and tops of the modal terms."""
-        _, mags, floors, exponents = coefficient_terms(self.M, self.C, self.K)
-        return mags, floors, exponents, coefficient_tops(mags, floors)
-
     @cached_property
     def _means(self) -> tuple[np.ndarray, ...]:
-        """The mean coefficients (of real samples: real), per omega-power (P, n, n)."""
-        K0 = (self.M.shape[0] - 1) // 2
-        return (self.M[K0].real, *(np.ascontiguousarray(np.moveaxis(X[K0].real, -1, 0)) for X in (self.C, self.K)))
+        """The mean coefficients on all n modes (real), M (n, n), C (Pc, n, n), K (Pk, n, n)."""
+        out = []
+        for X in self.model._power_spectra[:3]:
+            K0 = (X.shape[0] - 1) // 2
+            mean = modal_spectrum(X[K0: K0 + 1], self.modes.shapes)[0].real
+            out.append(np.ascontiguousarray(np.moveaxis(mean, -1, 0)) if X.ndim == 4 else mean)
+        return tuple(out)
+
+    def blocks(self, k: int) -> tuple[np.ndarray, ...]:
+        """Spectra of the coupling blocks of k kept modes per term [M, C_p.., K_p..], hl (2K+1,
+        n-k, k, Q) and lh (2K+1, k, n-k, Q) (4 n^2 k products per harmonic, not the 4 n^3 of all
+        modes), and the modal terms' harmonic magnitudes (Q, 2K+1) as the products see them
+        (the mean over all n modes, the others over hl and lh: per-block noise floors against
+        the scale of the whole term), noise floors, omega-powers and tops (built once per k)."""
+        if k not in self._blocks:
+            Phi = self.modes.shapes
+            l, h = Phi[:, :k], Phi[:, k:]
+            spectra = [X if X.ndim == 4 else X[..., None] for X in self.model._power_spectra[:3]]
+            hl, lh = (np.concatenate([modal_spectrum(X, rows, cols) for X in spectra], axis=-1)
+                      for rows, cols in ((h, l), (l, h)))
+            mags = np.maximum(np.abs(hl).max(axis=(1, 2)), np.abs(lh).max(axis=(1, 2))).T  # (Q, 2K+1)
+            M, C, K = self._means
+            mags[:, (hl.shape[0] - 1) // 2] = [np.abs(X).max() for X in (M, *C, *K)]
+            floors = noise_floors(mags)
+            exponents = np.concatenate([[0], np.arange(len(C)), np.arange(len(K))])
+            self._blocks[k] = (hl, lh, mags, floors, exponents, coefficient_tops(mags, floors))
+        return self._blocks[k]
 
     def couplings(self, k: int, m: int, band: int) -> tuple[np.ndarray, ...]:
         """The coupling blocks of k kept modes with m harmonics and the coefficient harmonics
@@ -130,12 +140,11 @@ class ReducedStability:
         a harmonic |b| <= m aliases onto |a| <= m on these angles: the products are the
         harmonic convolutions, O(P (n-k) k) instead of O(m band (n-k) k)."""
         if (k, m, band) not in self._couplings:
-            K0 = (self.M.shape[0] - 1) // 2
+            hl, lh = self.blocks(k)[:2]
+            K0 = (hl.shape[0] - 1) // 2
             theta = sample_angles(band + 2 * m + 1)
             E = np.exp(1j * np.outer(theta, np.arange(-m, m + 1)))
-            d, l, h = slice(K0 - band, K0 + band + 1), slice(0, k), slice(k, self.n)
-            hl, lh = (np.concatenate([self.M[d, r, c, None], self.C[d, r, c], self.K[d, r, c]], axis=-1)
-                      for r, c in ((h, l), (l, h)))  # the blocks' harmonics |d| <= band only, (2 band + 1, ., ., Q)
+            hl, lh = (X[K0 - band: K0 + band + 1] for X in (hl, lh))  # harmonics |d| <= band, (2 band + 1, ., ., Q)
             means = [np.moveaxis(X[band].real, -1, 0) for X in (hl, lh)]
             hl, lh = (np.moveaxis(synthesize(X, theta), -1, 0) for X in (hl, lh))
             self._couplings[k, m, band] = (E, np.ascontiguousarray(hl), np.ascontiguousarray(lh), *means)
@@ -144,16 +153,16 @@ class ReducedStability:
     def _coupled(self, w: float, k: int, m: int, s: np.ndarray, x: np.ndarray, y: np.ndarray, band=None):
         """r_h = Q_hl(lambda) x (2m+1, n-k) and s_h = y^H Q_lh(lambda) (2m+1, n-k) for
         Hill vectors x, y (2m+1, k) with s_b = lambda + i b w (2m+1,): per angle the terms
-        with harmonics above noise (:func:`~periodyn.harmonic.truncation.above_noise`) with
-        their harmonics up to ``band`` (default: the highest of those terms above FLOOR times
-        its noise floor, all of a term without a floor), the others by their mean blocks
-        (their harmonics are the samples' rounding noise)."""
-        mags, floors, exponents, tops = self._noise
+        with harmonics above noise (:func:`~periodyn.harmonic.truncation.above_noise` of the
+        noise data of :meth:`blocks`) with their harmonics up to ``band`` (default: the
+        highest of those terms above FLOOR times its noise floor, all of a term without a
+        floor), the others by their mean blocks (their harmonics are the samples' rounding noise)."""
+        mags, floors, exponents, tops = self.blocks(k)[2:]
         used = above_noise(mags, floors, exponents, np.array([w]))[0]
         band = int(tops[used].max(initial=0)) if band is None else band
         E, hl, lh, hl_mean, lh_mean = self.couplings(k, m, band)
-        Pc, P = self.C.shape[-1], E.shape[0]
-        powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(self.K.shape[-1])])
+        (Pc, Pk), P = self.powers, E.shape[0]
+        powers = np.concatenate([[1.0], w ** np.arange(Pc), w ** np.arange(Pk)])
         weights = np.concatenate([[s * s], np.repeat(s[None], Pc, 0), np.ones((len(powers) - 1 - Pc, s.size))])
         weights = weights * powers[:, None]  # (1 + Pc + Pk, 2m+1): s_b^2 for M, s_b w^p for C_p, w^p for K_p
         r = np.zeros((2 * m + 1, self.n - k), complex)
@@ -184,10 +193,9 @@ class ReducedStability:
         return self._hill[k, m]
 
     def kept(self, k: int) -> tuple[np.ndarray, ...]:
-        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P]) (the block of ``M``, ``C``, ``K``,
-        projected alone: the same whether or not those are built)."""
+        """Spectra M, C, K of the k-mode model (2K+1, k, k[, P])."""
         if k not in self._kept:
-            self._kept[k] = self._projected(k)
+            self._kept[k] = tuple(modal_spectrum(X, self.modes.shapes[:, :k]) for X in self.model._power_spectra[:3])
         return self._kept[k]
 
     def ladder(self, k: int) -> _Ladder:
@@ -195,12 +203,6 @@ class ReducedStability:
         if k not in self._ladders:
             self._ladders[k] = _Ladder(*self.kept(k), LADDER_TOL)
         return self._ladders[k]
-
-    def _at(self, w: float, rows: slice, cols: slice) -> tuple[np.ndarray, ...]:
-        """Mean modal coefficients M, C, K (r, c) of the block (rows, cols) at speed w."""
-        M, C, K = self._means
-        return M[rows, cols], np.tensordot(w ** np.arange(len(C)), C[:, rows, cols], 1), \
-            np.tensordot(w ** np.arange(len(K)), K[:, rows, cols], 1)
 
     def truncated_blocks(self, w: float, k: int) -> np.ndarray:
         """The mean truncated blocks at speed w side by side and transposed, [M_hh^T, C_hh^T,
@@ -214,17 +216,16 @@ class ReducedStability:
 
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
-        K0, h = (self.M.shape[0] - 1) // 2, np.arange(k, self.n)
-        mm, C, K = (X[K0, h, h].real for X in (self.M, self.C, self.K))  # the mean diagonals, (n-k[, P])
-        c, kk = C @ w ** np.arange(C.shape[-1]), K @ w ** np.arange(K.shape[-1])
+        h = np.arange(k, self.n)
+        mm, C, K = (X[..., h, h] for X in self._means)  # the mean diagonals, ([P, ]n-k)
+        c, kk = w ** np.arange(len(C)) @ C, w ** np.arange(len(K)) @ K
         disc = np.sqrt((c * c - 4 * mm * kk).astype(complex))
         return np.concatenate([(-c + disc) / (2 * mm), (-c - disc) / (2 * mm)])
 
     def mean_exponents(self, w: float, k: int) -> np.ndarray:
         """Exponents (2k,) of the kept modes' mean system at speed w (the representatives'
         first guess: a Floquet exponent lies near one of them)."""
-        l = slice(0, k)
-        M, C, K = self._at(w, l, l)
+        M, C, K = (np.tensordot(w ** np.arange(len(X)), X[:, :k, :k], 1) for X in (self._means[0][None], *self._means[1:]))
         A = np.block([[np.zeros((k, k)), np.eye(k)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
         return np.linalg.eigvals(A)
 
@@ -232,7 +233,7 @@ class ReducedStability:
         """(centred exponent, d_lambda, "") of the reduced exponent lam at speed w with m
         harmonics and k kept modes, or (lam, nan, why) where it is not determined."""
         terms = self.hill_terms(k, m)
-        Pc = self.C.shape[-1]
+        Pc = self.powers[0]
         M = terms[0]
         C = np.tensordot(w ** np.arange(Pc), terms[1: 1 + Pc], 1)
         K = np.tensordot(w ** np.arange(len(terms) - 1 - Pc), terms[1 + Pc:], 1)

@@ -81,6 +81,23 @@ def test_the_modal_spectrum_is_that_of_the_projected_samples(crank4):
             assert np.array_equal(got[::-1], np.conj(got))  # the spectrum of real samples
 
 
+def test_the_modal_spectrum_of_a_rectangular_block(crank4):
+    """Rows on one set of modes and columns on another (either side the narrower): the
+    spectrum of the projected samples, and the block of the square projection (to rounding
+    of the whole term: the mass's off-diagonal blocks are rounding only, M-orthonormal modes)."""
+    Phi = mean_modes(crank4).shapes
+    l, h = Phi[:, :3], Phi[:, 3:]
+    for X, spectrum in zip((crank4.mass, crank4.damping, crank4.stiffness), crank4._power_spectra):
+        square = modal_spectrum(spectrum, Phi)
+        for rows, cols, block in ((h, l, square[:, 3:, :3]), (l, h, square[:, :3, 3:])):
+            projected = rows.T @ X @ cols
+            ref = fourier_coefficients(np.moveaxis(projected, 0, -1) if X.ndim == 4 else projected)
+            got = modal_spectrum(spectrum, rows, cols)
+            assert got.shape == ref.shape == block.shape
+            scale = np.abs(square).max()
+            assert np.abs(got - ref).max() <= 1e-12 * scale and np.abs(got - block).max() <= 1e-12 * scale
+
+
 def test_the_guard_keeps_underdamped_modes_within_parametric_reach(crank4):
     modes = MeanModes(np.eye(5), np.array([1.0, 2.0, 5.0, 9.0, 30.0]), np.array([0.01, 0.01, 0.02, 2.0, 0.01]), 0.0)
     assert guarded_modes(modes, 1, 2, 1.0) == 2  # 2 - 1 <= 2; 5 - 1 > 2

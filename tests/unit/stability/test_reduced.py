@@ -108,7 +108,7 @@ def test_the_correction_on_the_band_above_noise_equals_the_all_harmonics_one(mon
     w, k = np.array([150.0, 210.0, 266.5, 300.0]), 10
     lam = [e[np.argmax(e.real)] for e in R.ladder(k).solve(w, np.inf).exponents]
     banded = np.array([R.correction(x, wi, 12, k)[1] for x, wi in zip(lam, w)])
-    K0 = (R.M.shape[0] - 1) // 2
+    K0 = (R.model._power_spectra[0].shape[0] - 1) // 2
     assert {key[2] for key in R._couplings} == {22}
     every = ReducedStability._coupled
     monkeypatch.setattr(R, "_coupled", lambda *a: every(R, *a, band=K0))
