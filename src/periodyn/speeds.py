@@ -191,8 +191,6 @@ class SpeedSolver:
         self.dense_hill = self.stability and self.speed_stability.dense_hill
         self.reduced_balance = self.stability and form == "direct" and (
             self.method == "reduced" or self.method == "auto" and model.n >= AUTO_MIN_COORDINATES)
-        self._reduced: ReducedBalance | None = None
-        self._truncated: SweepTruncation | None = None
 
     @property
     def ladder(self):
@@ -275,18 +273,15 @@ class SpeedSolver:
         modes = np.zeros(w.size, np.int32)
         k = self.model.n
         if self.reduced_balance and (self.method == "reduced" or reduced_pays(self.speed_stability, w).any()):
-            if self._reduced is None:
-                mean = self.speed_stability.prepared("reduced").modes  # kept with the model, as these
-                self._reduced = self.model.derived("reduced_balance", (self.m, self.pattern.band),
-                                                   lambda: ReducedBalance(self.model, self.m, self.pattern.band, mean))
-            k = guarded_modes(self._reduced.modes, min(START_MODES, self.model.n), self.m, float(w.max()))
+            reduced = self.model.derived("reduced_balance", (self.m, self.pattern.band), lambda: ReducedBalance(
+                self.model, self.m, self.pattern.band, self.speed_stability.prepared("reduced").modes))
+            k = guarded_modes(reduced.modes, min(START_MODES, self.model.n), self.m, float(w.max()))
         if k >= self.model.n:
             return (*self.balance.solve_many(w, self.batch_balance), modes)
-        q, residual, steps = self._reduced.solve_many(w, k)
+        q, residual, steps = reduced.solve_many(w, k)
         message = np.full(w.size, "", dtype=object)
         ok = (steps > 0) & np.isfinite(q).reshape(w.size, -1).all(axis=1)
-        amplified = amplification(self._reduced.row_scales(w), q.reshape(w.size, -1),
-                                  self._reduced.forcing(w).reshape(w.size, -1))
+        amplified = amplification(reduced.row_scales(w), q.reshape(w.size, -1), reduced.forcing(w).reshape(w.size, -1))
         for i in np.flatnonzero(ok):
             message[i] = balance_failure(w[i], residual[i], amplified[i], f"reduced, {k} modes")
         modes[ok] = k
@@ -329,10 +324,9 @@ class SpeedSolver:
     def _truncation(self, q: np.ndarray, w: np.ndarray) -> np.ndarray:
         """HB truncation indicators (S,) of the harmonics q (S, 2m+1, n) at speeds w (S,);
         warns (BalanceTruncationWarning) where one is above BALANCE_TRUNCATION_TOL."""
-        if self._truncated is None:
-            self._truncated = self.model.derived("sweep_truncation", self.m,
-                                                 lambda: SweepTruncation(self.model._power_spectra[:4], self.m))
-        indicator = self._truncated(q, w)
+        truncation = self.model.derived("sweep_truncation", self.m,
+                                        lambda: SweepTruncation(self.model._power_spectra[:4], self.m))
+        indicator = truncation(q, w)
         high = np.flatnonzero(indicator > BALANCE_TRUNCATION_TOL)
         if high.size:
             warnings.warn(f"{high.size} of {w.size} speeds: " + balance_truncation_message(

@@ -131,9 +131,10 @@ def modal_spectrum(X: np.ndarray, basis: np.ndarray, right: np.ndarray | None = 
     right = basis if right is None else right
     Y = np.moveaxis(X[K:], -1, 1) if X.ndim == 4 else X[K:, None]  # (K+1, P, n, n)
     half = np.empty(Y.shape[:2] + (basis.shape[1], right.shape[1]), complex)
-    for part, Z in (("real", Y.real), ("imag", Y.imag)):
+    narrow_right = right.shape[1] < basis.shape[1]
+    for out, Z in ((half.real, Y.real), (half.imag, Y.imag)):
         Z = np.ascontiguousarray(Z)
-        setattr(half, part, basis.T @ (Z @ right) if right.shape[1] < basis.shape[1] else basis.T @ Z @ right)
+        out[...] = basis.T @ (Z @ right) if narrow_right else basis.T @ Z @ right
     half = np.moveaxis(half, 1, -1) if X.ndim == 4 else half[:, 0]
     return np.concatenate([np.conj(half[:0:-1]), half])
 
