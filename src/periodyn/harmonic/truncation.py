@@ -21,22 +21,21 @@ The coefficients' harmonics carry rounding noise (1e-14 to 3e-13 of a term's lar
 the kinematic Newton tolerance, flat over the harmonics): the band ends where the harmonics
 reach FLOOR times each term's noise floor, and a term whose harmonics are all noise enters
 the products by its mean only (in D_l), not by its noise. Of the harmonics l it solves D_l
-exactly only those that can hold the largest estimate: in the basis Phi of the mean
-system's undamped modes, D_l = Phi^-T (Dg + E) Phi^-1 with Dg diagonal, and with column
-weights v_i = max_a |Phi_ai| and rho = max_j sum_i v_i |E_ij| / (|Dg_i| v_j) < 1,
-
-    |D_l^-1 R_l|_max <= sum_i v_i |(Phi^T R_l)_i / Dg_i| / (1 - rho)      (O(n^2) per l),
-
-so a harmonic whose bound is below the largest estimate solved so far cannot change the
-indicator and is not solved (the value is the same as with every harmonic solved).
+exactly only those that can hold the largest estimate: a bound of |D_l^-1 R_l|_max in the
+modes of the mean system (:mod:`periodyn.harmonic.mean_modal`, O(n^2) per l) below the largest
+estimate solved so far means the harmonic cannot change the indicator, and it is not solved
+(the value is the same as with every harmonic solved). From MODAL_MIN coordinates the
+harmonics it solves, it solves in the same modes by a Jacobi iteration (O(n^2) per step, 4-5
+steps) instead of the O(n^3) complex LU, which it takes only where the bound does not hold or
+the steps do not converge.
 """
 
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 
 from ..numerics.spectra import half_synthesis, min_samples, sample_angles, synthesize
+from .mean_modal import BLOCK, MeanModalSystem  # BLOCK: speeds per matrix product of the samples
 
 __all__ = ["BALANCE_TRUNCATION_TOL", "BalanceTruncationWarning", "balance_truncation", "balance_truncation_message",
            "SweepTruncation", "above_noise", "coefficient_terms", "coefficient_tops", "noise_floors"]
@@ -107,13 +106,14 @@ def _top(mags: np.ndarray) -> np.ndarray:
     return np.where(big, np.abs(np.arange(2 * K + 1) - K), 0).max(axis=1)
 
 
-#: speeds per matrix product of the samples (the last block padded with zeros): at a fixed
-#: width every column goes through the same BLAS kernel, so a speed's rounding does not
-#: depend on its place or its neighbours (with a varying width the edge kernels differ)
-BLOCK = 16
-#: a harmonic is solved where SLACK times its bound reaches the largest estimate so far (room
-#: for the rounding of the bound and of the solve: measured bounds are 1.0-1.3x the estimate)
-SLACK = 2.0
+#: a harmonic is solved where SLACK times its bound reaches the largest estimate so far: the
+#: bound holds exactly (measured 1.0-1.3x the estimate), SLACK - 1 is room for the rounding of
+#: the bound and of the solve (1e-14 to 1e-13 of them)
+SLACK = 1.0 + 1e-6
+#: coordinates from which the harmonics are solved by the modal iteration: its 4-5 steps of
+#: 4 Q n^2 flops per harmonic cost less than the complex LU's 8/3 n^3 from n ~ 45 (Q = 6 terms);
+#: at 16 coordinates (chunks of 6 speeds) the iteration took 1.4x the LU, at 256 a quarter
+MODAL_MIN = 64
 #: a coefficient harmonic below FLOOR times the noise floor of the terms (the largest entry
 #: modulus of their top quarter of harmonics, where that is resolved) is noise: at 128 rod
 #: elements the floor is 3e-13 of the largest entry, from the kinematic Newton tolerance;
@@ -152,8 +152,9 @@ class SweepTruncation:
         self.synthesis = half_synthesis(m, theta)  # (P, 2(m+1))
         self.analysis = np.exp(-1j * np.outer(self.l, theta)) / theta.size  # (L, P)
         self.mean = [X[K] for X in terms]  # mean blocks (n, n) of the terms
-        self.solve_means = [X.real if not X.imag.any() else X for X in self.mean]  # real where they are: half the work
-        self.modal = _modal_blocks(self.mean, Cs.shape[-1])
+        stack = np.stack(self.mean)  # (Q, n, n)
+        self.mean_stack = stack.real if not stack.imag.any() else stack  # real where they are: half the work
+        self.modal = MeanModalSystem.of(self.mean, Cs.shape[-1])
         inside = self.l <= Kf
         self.force = np.zeros((self.l.size, self.n, fs.shape[-1]), complex)
         self.force[inside] = fs[Kf + self.l[inside]]
@@ -222,20 +223,44 @@ class SweepTruncation:
             if not at.size:
                 break
             i = i[at]
-            wa = w[at][:, None, None]
-            lw = self.l[i][:, None, None] * wa
-            Ms, *CK = self.solve_means
-            D = (-lw ** 2 * Ms + sum(wa ** p * X for p, X in enumerate(CK[Pc:]))
-                 + 1j * (lw * sum(wa ** p * X for p, X in enumerate(CK[:Pc]))))
-            try:
-                est = np.abs(np.linalg.solve(D, R[at, i, :, None])[..., 0])
-            except np.linalg.LinAlgError:  # one speed's mean system resonates at its harmonic
-                est = np.array([_estimate(D[j], R[s, i[j]]) for j, s in enumerate(at)])
+            est = np.full((at.size, self.n), np.nan)
+            modal = np.isfinite(bound[at, i]) & (self.n >= MODAL_MIN)  # it converges where the bound holds
+            if modal.any():
+                est[modal] = self.modal_estimates(R[at[modal], i[modal]], self.l[i[modal]] * w[at[modal]], w[at[modal]])
+            dense = np.flatnonzero(np.isnan(est).any(axis=1))
+            if dense.size:
+                est[dense] = self.dense_estimates(R[at[dense], i[dense]], self.l[i[dense]] * w[at[dense]], w[at[dense]])
             out[at] = np.maximum(out[at], est.max(axis=1))
         scale = np.abs(q).reshape(S, -1).max(axis=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             ratio = np.where(scale > 0, out / scale, 0.0)
         return np.where(np.isfinite(q).reshape(S, -1).all(axis=1), ratio, np.nan)
+
+    def _coefficients(self, lw: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Weights (V, Q) of the terms' mean blocks in D_l = sum_t coef_t Xbar_t at lw = l w (V,)
+        and speeds w (V,): -(l w)^2 for M, i l w w^p for C_p, w^p for K_p."""
+        Pc, Pk = self.powers
+        wp = w[:, None] ** np.arange(max(Pc, Pk))  # (V, P)
+        return np.concatenate([-lw[:, None] ** 2, 1j * lw[:, None] * wp[:, :Pc], wp[:, :Pk] + 0j], axis=1)
+
+    def modal_estimates(self, R: np.ndarray, lw: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """|D_l^-1 R_l| (V, n) of the unbalanced harmonics R (V, n) at lw = l w (V,) and speeds
+        w (V,) by the Jacobi iteration in the mean modes (NaN where it did not converge; each
+        vector's value its own to the bit)."""
+        return self.modal.solve_moduli(self._coefficients(lw, w), R)
+
+    def dense_estimates(self, R: np.ndarray, lw: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """|D_l^-1 R_l| (V, n) by dense solves of D_l (inf where the mean system resonates at
+        the harmonic), D_l formed elementwise per vector (a vector's rounding does not depend on V)."""
+        Pc = self.powers[0]
+        M, C, K = self.mean_stack[0], self.mean_stack[1: 1 + Pc], self.mean_stack[1 + Pc:]
+        wa, lw = w[:, None, None], lw[:, None, None]
+        D = (-lw ** 2 * M + sum(wa ** p * X for p, X in enumerate(K))
+             + 1j * (lw * sum(wa ** p * X for p, X in enumerate(C))))
+        try:
+            return np.abs(np.linalg.solve(D, R[..., None])[..., 0])
+        except np.linalg.LinAlgError:  # one speed's mean system resonates at its harmonic
+            return np.array([_estimate(Dj, Rj) for Dj, Rj in zip(D, R)])
 
     def bounds(self, R: np.ndarray, w: np.ndarray, top: np.ndarray) -> np.ndarray:
         """Upper bounds (S, L) of |D_l^-1 R_l|_max for the unbalanced harmonics R (S, L, n) at
@@ -247,19 +272,7 @@ class SweepTruncation:
         if self.modal is None or not s.size:
             out[s, i] = np.inf
             return out
-        phi, weights, diagonal, off = self.modal
-        Pc, Pk = self.powers
-        lw = self.l[i] * w[s]  # (V,)
-        wp = w[s, None] ** np.arange(max(Pc, Pk))  # (V, P)
-        coef = np.concatenate([-lw[:, None] ** 2, 1j * lw[:, None] * wp[:, :Pc], wp[:, :Pk] + 0j], axis=1)  # (V, Q)
-        Rv = R[s, i]
-        proj = np.concatenate([Rv.real, Rv.imag]) @ phi  # Phi^T R by one real product, (2V, n)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            Dg = coef @ diagonal  # (V, n)
-            coupling = ((weights / np.abs(Dg)) @ off).reshape(s.size, coef.shape[1], -1)  # (V, Q, n)
-            rho = (np.abs(coef)[..., None] * coupling / weights).sum(axis=1).max(axis=1, initial=0.0)
-            b = (weights * np.abs((proj[: s.size] + 1j * proj[s.size:]) / Dg)).sum(axis=1) / (1.0 - rho)
-        out[s, i] = np.where((rho < 1.0) & np.isfinite(b), b, np.inf)
+        out[s, i] = self.modal.bounds(self._coefficients(self.l[i] * w[s], w[s]), R[s, i])
         return out
 
 
@@ -305,27 +318,6 @@ def noise_floors(mags: np.ndarray) -> np.ndarray:
     tail = np.abs(np.arange(2 * K + 1) - K) >= K - K // 4
     floor = mags[:, tail].max(axis=1)
     return np.where(floor <= RESOLVED * mags.max(axis=1), floor, 0.0)
-
-
-def _modal_blocks(mean: list[np.ndarray], Pc: int):
-    """Modal data of the mean system for the bounds of :meth:`SweepTruncation.bounds`: the
-    undamped modes Phi (n, n) of the symmetric parts of the mean K_0 and M, the weights
-    max_a |Phi_ai| (n,), the diagonals (Q, n) of Phi^T X Phi of the terms' mean blocks X and
-    their off-diagonal moduli stacked (n, Q n); None where the mean mass is not positive
-    definite (every harmonic is then solved)."""
-    M, K0 = mean[0], mean[1 + Pc]
-    try:
-        phi = scipy.linalg.eigh(0.5 * (K0 + K0.T), 0.5 * (M + M.T))[1]
-    except (np.linalg.LinAlgError, ValueError):
-        return None
-    projected = np.stack([phi.T @ X @ phi for X in mean])  # (Q, n, n)
-    diagonal = np.diagonal(projected, axis1=1, axis2=2).copy()
-    off = np.abs(projected)
-    off[:, np.arange(phi.shape[0]), np.arange(phi.shape[0])] = 0.0
-    weights = np.abs(phi).max(axis=0)
-    if not (np.isfinite(projected).all() and (weights > 0).all()):
-        return None
-    return phi, weights, diagonal, np.ascontiguousarray(off.transpose(1, 0, 2).reshape(phi.shape[0], -1))
 
 
 def _estimate(D: np.ndarray, R: np.ndarray) -> np.ndarray:

@@ -38,7 +38,7 @@ from ..system import OmegaSplitModel, RheoLinear
 from ..kernels.solvers import magnus_ladder as kernel
 from .floquet import STABILITY_TOL
 from .magnus import MagnusLadder
-from .schur import harmonic_offsets, null_vectors, truncated_solve
+from .schur import centred_null_vectors, harmonic_offsets, truncated_solve
 
 __all__ = ["ReducedStability", "system_model", "reduced_choices", "reduced_first", "reduced_pays",
            "reduced_costs", "LADDER_TOL", "START_MODES", "AUTO_MIN_COORDINATES"]
@@ -63,12 +63,12 @@ AUTO_MIN_COORDINATES = 2 * START_MODES
 CORRECTION_COST = (1.0e-10, 2.0e-3)
 LADDER_CLIMB = 3.0  # the reduced ladder's time over its first comparison (3.0-3.2 on the 16-128-element slider-cranks)
 WINDOW = 1.0  # exponents with growth per period within this of the top are corrected
-# a null vector whose harmonic energy centroid is within this of half a harmonic from 0 is
-# centred: on the line Im(lambda) = w/2 (a negative real multiplier) the centroid is +-1/2, and
-# the shifts by -+1 only swap the two equally centred vectors
-CENTRE_SLACK = 0.01
 EDGE_MAX = 0.05  # largest energy fraction of a centred Hill null vector in the harmonics |a| = m
-DOUBLE_TOL = 1e-6  # |y^H Q' x| / max|Q'| below this: a near double exponent
+DOUBLE_TOL = 1e-6  # |y^H Q' x| over a bound of max|Q'| below this: a near double exponent
+# the mean truncated mass block enters the Jacobi sweeps by its diagonal where its off-diagonal
+# is at most this of its diagonal: in M-orthonormal modes it is the identity up to the rounding
+# of the mean (1.5e-8 at 128 rod elements); the sweeps stop at a residual of JACOBI_RTOL = 1e-6
+MASS_DIAGONAL = 1e-7
 
 
 class _Ladder(MagnusLadder):
@@ -100,6 +100,7 @@ class ReducedStability:
         self._blocks: dict[int, tuple[np.ndarray, ...]] = {}
         self._couplings: dict[tuple[int, int, int], tuple[np.ndarray, ...]] = {}
         self._hill: dict[tuple[int, int], np.ndarray] = {}
+        self._hill_tops: dict[tuple[int, int], np.ndarray] = {}
         self._truncated: dict[int, tuple[np.ndarray, ...]] = {}
 
     @cached_property
@@ -192,6 +193,12 @@ class ReducedStability:
             self._hill[k, m] = np.ascontiguousarray(offsets).reshape(-1, N, N)
         return self._hill[k, m]
 
+    def hill_tops(self, k: int, m: int) -> np.ndarray:
+        """Largest entry modulus (1 + Pc + Pk,) of each of :meth:`hill_terms`."""
+        if (k, m) not in self._hill_tops:
+            self._hill_tops[k, m] = np.abs(self.hill_terms(k, m)).max(axis=(1, 2))
+        return self._hill_tops[k, m]
+
     def kept(self, k: int) -> tuple[np.ndarray, ...]:
         """Spectra M, C, K of the k-mode model (2K+1, k, k[, P])."""
         if k not in self._kept:
@@ -204,15 +211,21 @@ class ReducedStability:
             self._ladders[k] = _Ladder(*self.kept(k), LADDER_TOL)
         return self._ladders[k]
 
-    def truncated_blocks(self, w: float, k: int) -> np.ndarray:
-        """The mean truncated blocks at speed w side by side and transposed, [M_hh^T, C_hh^T,
-        K_hh^T] (n-k, 3(n-k)) (of :func:`~periodyn.stability.schur.truncated_solve`; their
-        omega-power terms kept contiguous per k)."""
+    def truncated_blocks(self, w: float, k: int) -> tuple[np.ndarray, np.ndarray | None]:
+        """The mean truncated blocks at speed w side by side and transposed, and the mass's
+        diagonal, for :func:`~periodyn.stability.schur.truncated_solve`: [C_hh^T, K_hh^T]
+        (n-k, 2(n-k)) and diag M_hh (n-k,) where M_hh is diagonal to MASS_DIAGONAL (the
+        modes are M-orthonormal: its off-diagonal is the rounding of the mean), else
+        [M_hh^T, C_hh^T, K_hh^T] and None (their omega-power terms kept contiguous per k)."""
         if k not in self._truncated:
-            self._truncated[k] = tuple(np.ascontiguousarray(X[..., k:, k:].swapaxes(-1, -2)) for X in self._means)
+            M, C, K = (np.ascontiguousarray(X[..., k:, k:].swapaxes(-1, -2)) for X in self._means)
+            diagonal = np.diag(M).copy()
+            if np.abs(M - np.diag(diagonal)).max(initial=0.0) <= MASS_DIAGONAL * np.abs(diagonal).min(initial=np.inf):
+                M = diagonal
+            self._truncated[k] = (M, C, K)
         M, C, K = self._truncated[k]
-        return np.concatenate([M, np.tensordot(w ** np.arange(len(C)), C, 1),
-                               np.tensordot(w ** np.arange(len(K)), K, 1)], axis=1)
+        blocks = [np.tensordot(w ** np.arange(len(C)), C, 1), np.tensordot(w ** np.arange(len(K)), K, 1)]
+        return (np.concatenate(blocks, axis=1), M) if M.ndim == 1 else (np.concatenate([M] + blocks, axis=1), None)
 
     def truncated_exponents(self, w: float, k: int) -> np.ndarray:
         """Diagonal mean estimates (2(n-k),) of the exponents of the truncated modes."""
@@ -241,29 +254,22 @@ class ReducedStability:
         nu = self.mean_exponents(w, k)
         j = np.rint((nu.imag - lam.imag) / w)
         lam = lam + 1j * w * j[np.argmin(np.abs(lam + 1j * w * j - nu))]
-        x = y = None
-        for _ in range(3):
-            s = lam + 1j * a * w  # s_b per column harmonic b
-            sc = np.repeat(s, k)
-            x, y = null_vectors(M * (sc * sc) + C * sc + K)
-            x, y = x.reshape(2 * m + 1, k), y.reshape(2 * m + 1, k)
-            energy = (np.abs(x) ** 2).sum(axis=1)
-            centroid = energy @ a / energy.sum()
-            shift = int(np.rint(centroid)) if abs(centroid) > 0.5 + CENTRE_SLACK else 0
-            if shift == 0:
-                break
-            lam = lam + 1j * shift * w
-        else:
+        centred = centred_null_vectors(M, C, K, lam, w, k)
+        if centred is None:
             return lam, np.nan, "no centred reduced-Hill null vector"
+        lam, x, y = centred
+        s = lam + 1j * a * w  # s_b per column harmonic b
+        sc = np.repeat(s, k)
         energy = (np.abs(x) ** 2).sum(axis=1)
         if (energy[0] + energy[-1]) / energy.sum() > EDGE_MAX:
             return lam, np.nan, "the reduced-Hill null vector reaches the outermost harmonics"
-        dQ = 2 * M * sc + C
-        denom = np.conj(y.reshape(-1)) @ (dQ @ x.reshape(-1))
-        if abs(denom) < DOUBLE_TOL * np.abs(dQ).max():
+        xs, yc = x.reshape(-1), np.conj(y.reshape(-1))
+        denom = yc @ (M @ (2 * sc * xs)) + yc @ (C @ xs)  # y^H Q' x, Q' = 2 M s + C
+        tops = self.hill_tops(k, m)  # max|Q'| <= 2 max|s| max|M| + sum_p w^p max|C_p|
+        if abs(denom) < DOUBLE_TOL * (2 * np.abs(s).max() * tops[0] + w ** np.arange(Pc) @ tops[1: 1 + Pc]):
             return lam, np.nan, "near a double exponent (y^H Q' x -> 0)"
         r, sh = self._coupled(w, k, m, s, x, y)  # s_h[b] = sum_a y_a^H Q_lh[a, b]
-        z = truncated_solve(self.truncated_blocks(w, k), s, r)
+        z = truncated_solve(*self.truncated_blocks(w, k), s, r)
         return lam, complex(np.einsum("ai,ai->", sh, z) / denom), ""
 
     def certify(self, w: float, m: int, k: int, exps: np.ndarray, error: float):
