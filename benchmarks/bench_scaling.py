@@ -43,6 +43,10 @@ needs idle cores: the load average is printed at start and end.
 
 The sweep file's model is built inside the timed call (as ``periodyn sweep`` does): for the
 Cardan shaft that is seconds of fixed cost, so use --scale where the sweep itself is short.
+The Cardan table is printed twice (``--model-cache both``): with the model built in every
+run (cold: a file's first sweep, PERIODYN_MODEL_CACHE=off) and read from the built-model
+cache (warm: a file's later sweeps, :func:`periodyn.studies.cache.cached_model`; the cache
+filled once before the timed runs).
 """
 
 from __future__ import annotations
@@ -52,6 +56,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -113,14 +118,16 @@ print(json.dumps({"seconds": end - start, "points": int(ds.attrs["points"]), "ba
 """
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CACHE_MODES = {"cold": "built in each run (PERIODYN_MODEL_CACHE=off)",
+               "warm": "read from the built-model cache (a file's second and later sweeps)"}
 
 
-def run(kind: str, points: int, workers: int, repeats: int) -> dict:
+def run(kind: str, points: int, workers: int, repeats: int, env: dict | None = None) -> dict:
     best = None
     for _ in range(repeats):
         out = subprocess.run([sys.executable, "-c", CHILD, kind, str(points), str(workers),
                               os.path.join(ROOT, "sweeps", "cardan_shaft.toml")],
-                             capture_output=True, text=True, check=True)
+                             capture_output=True, text=True, check=True, env={**os.environ, **(env or {})})
         result = json.loads(out.stdout.strip().splitlines()[-1])
         if best is None or result["seconds"] < best["seconds"]:
             best = result
@@ -167,12 +174,77 @@ def efficiency(a: float, s: float, p: float, n: float, w: int) -> float:
     return (a + n * (s + p)) / (w * (a + n * (s + p / w)))
 
 
+def report(kind: str, title: str, sizes: tuple, issue_size: int, cores: int, args, env: dict) -> None:
+    """The table of one sweep over the sizes and worker counts, the fit and the predictions."""
+    print(f"\n{title}")
+    print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9} "
+          f"{'set-up s':>8} {'(CPU)':>6} {'first up s':>10} {'1st chunk s':>11} {'finish s':>8} {'(CPU)':>6} "
+          f"{'loop CPU ms/pt':>14}")
+    rows, runs = [], []
+    for n in (int(round(size * args.scale)) for size in sizes):
+        t1 = None
+        for w in range(1, cores + 1):
+            r = run(kind, n, w, args.repeats, env)
+            r["workers"] = w
+            t1 = r["seconds"] if w == 1 else t1
+            rows.append((r["points"], w, r["seconds"]))
+            runs.append(r)
+            ready = f"{r['ready']:9.2f}" if r["ready"] is not None else f"{'-':>9}"
+            window = f"{r['window']:10.2f}" if r["window"] is not None else f"{'-':>10}"
+            print(f"{r['points']:>7} {w:>7} {r['seconds']:8.2f} {r['points'] / r['seconds']:9.1f} "
+                  f"{t1 / (w * r['seconds']):10.1%} {ready} {r['setup']:8.2f} {r['setup_cpu']:6.2f} {window} "
+                  f"{r['first_result']:11.2f} "
+                  f"{r['finish']:8.2f} {r['finish_cpu']:6.2f} {1e3 * r['overhead_cpu'] / r['points']:14.4f}",
+                  flush=True)
+    a, s, p = fit(rows)
+    largest = max(n for n, _, _ in rows)
+    f = s / (s + p) if s + p else float("nan")
+    print(f"FITTED to wall times, T = a + N (s + p/w): start cost a = {a:.2f} s, serial s = {s * 1e3:.3f} "
+          f"ms/point, parallel p = {p * 1e3:.3f} ms/point, serial fraction f = {f:.3%}")
+    if s < 0 or p <= 0 or a < 0:
+        print("  the fit is not physical (a coefficient is negative): the timings are dominated by other load "
+              "or by noise; rerun on idle cores, with --scale for longer sweeps")
+    else:
+        print(f"  predicted efficiency at 16 workers: {efficiency(a, s, p, largest, 16):.1%} at N = {largest}, "
+              f"{efficiency(a, s, p, issue_size, 16):.1%} at N = {issue_size} "
+              f"(T1 = {a + issue_size * (s + p):.0f} s)")
+    print(f"  (with {cores} workers on {cores} cores, and other load, the fitted s also holds the contention "
+          "of the processes for the cores, not only serial work)")
+    direct = measured(runs)
+    if direct is None:
+        print("MEASURED: needs runs with worker processes at two sizes and a one-worker run")
+        return
+    for pipeline, (am, sm, pm, how) in ((False, direct), (True, measured(runs, pipeline=True))):
+        if not pipeline:
+            print(f"MEASURED directly (serial: the calling process's CPU outside solving in the loop and the "
+                  f"finish, {how}; a also holds the set-up CPU and the wall time until the first worker was up; "
+                  f"p: the one-worker runs' solving CPU): start cost a = {am:.2f} s, serial s = {sm * 1e3:.4f} "
+                  f"ms/point, parallel p = {pm * 1e3:.3f} ms/point, serial fraction f = {sm / (sm + pm):.3%}")
+        else:
+            print(f"MEASURED, the loop's CPU (spent while the workers solve) counted as work the cores share "
+                  f"(in p), serial: the finish ({how}): a = {am:.2f} s, s = {sm * 1e3:.4f} ms/point, "
+                  f"p = {pm * 1e3:.3f} ms/point, f = {sm / (sm + pm):.3%}")
+        print(f"  predicted efficiency at 16 workers: {efficiency(am, sm, pm, largest, 16):.1%} at N = {largest}, "
+              f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
+              f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
+              "(idle cores, no memory-bandwidth limit)")
+    pooled = [r for r in runs if r["backend"] == "processes"]
+    loop = max(pooled, key=lambda r: (r["points"], r["workers"]))
+    per_point = loop["overhead_cpu"] / loop["points"]
+    print(f"  the loop CPU ({per_point * 1e3:.4f} ms/point at N = {loop['points']}) runs while the workers solve: "
+          f"counted as serial in the first MEASURED line (an upper bound); as a pipeline it caps the sweep at "
+          f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scale", type=float, default=1.0, help="multiply the numbers of points")
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--max-workers", type=int, default=len(os.sched_getaffinity(0)))
     parser.add_argument("--only", choices=("cardan", "slider_crank_grid"), help="run one of the two sweeps")
+    parser.add_argument("--model-cache", choices=("cold", "warm", "both"), default="both",
+                        help="the Cardan sweep file's model built in each run (cold), read from the built-model "
+                             "cache (warm), or both tables")
     args = parser.parse_args()
     cores = args.max_workers
     print(f"cores {len(os.sched_getaffinity(0))}, workers 1..{cores}, load average at start "
@@ -183,64 +255,14 @@ def main() -> None:
     for kind, (title, sizes, issue_size) in sweeps.items():
         if args.only and kind != args.only:
             continue
-        print(f"\n{title}")
-        print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9} "
-              f"{'set-up s':>8} {'(CPU)':>6} {'first up s':>10} {'1st chunk s':>11} {'finish s':>8} {'(CPU)':>6} "
-              f"{'loop CPU ms/pt':>14}")
-        rows, runs = [], []
-        for n in (int(round(size * args.scale)) for size in sizes):
-            t1 = None
-            for w in range(1, cores + 1):
-                r = run(kind, n, w, args.repeats)
-                r["workers"] = w
-                t1 = r["seconds"] if w == 1 else t1
-                rows.append((r["points"], w, r["seconds"]))
-                runs.append(r)
-                ready = f"{r['ready']:9.2f}" if r["ready"] is not None else f"{'-':>9}"
-                window = f"{r['window']:10.2f}" if r["window"] is not None else f"{'-':>10}"
-                print(f"{r['points']:>7} {w:>7} {r['seconds']:8.2f} {r['points'] / r['seconds']:9.1f} "
-                      f"{t1 / (w * r['seconds']):10.1%} {ready} {r['setup']:8.2f} {r['setup_cpu']:6.2f} {window} "
-                      f"{r['first_result']:11.2f} "
-                      f"{r['finish']:8.2f} {r['finish_cpu']:6.2f} {1e3 * r['overhead_cpu'] / r['points']:14.4f}",
-                      flush=True)
-        a, s, p = fit(rows)
-        largest = max(n for n, _, _ in rows)
-        f = s / (s + p) if s + p else float("nan")
-        print(f"FITTED to wall times, T = a + N (s + p/w): start cost a = {a:.2f} s, serial s = {s * 1e3:.3f} "
-              f"ms/point, parallel p = {p * 1e3:.3f} ms/point, serial fraction f = {f:.3%}")
-        if s < 0 or p <= 0 or a < 0:
-            print("  the fit is not physical (a coefficient is negative): the timings are dominated by other load "
-                  "or by noise; rerun on idle cores, with --scale for longer sweeps")
-        else:
-            print(f"  predicted efficiency at 16 workers: {efficiency(a, s, p, largest, 16):.1%} at N = {largest}, "
-                  f"{efficiency(a, s, p, issue_size, 16):.1%} at N = {issue_size} "
-                  f"(T1 = {a + issue_size * (s + p):.0f} s)")
-        print(f"  (with {cores} workers on {cores} cores, and other load, the fitted s also holds the contention "
-              "of the processes for the cores, not only serial work)")
-        direct = measured(runs)
-        if direct is None:
-            print("MEASURED: needs runs with worker processes at two sizes and a one-worker run")
-            continue
-        for pipeline, (am, sm, pm, how) in ((False, direct), (True, measured(runs, pipeline=True))):
-            if not pipeline:
-                print(f"MEASURED directly (serial: the calling process's CPU outside solving in the loop and the "
-                      f"finish, {how}; a also holds the set-up CPU and the wall time until the first worker was up; "
-                      f"p: the one-worker runs' solving CPU): start cost a = {am:.2f} s, serial s = {sm * 1e3:.4f} "
-                      f"ms/point, parallel p = {pm * 1e3:.3f} ms/point, serial fraction f = {sm / (sm + pm):.3%}")
-            else:
-                print(f"MEASURED, the loop's CPU (spent while the workers solve) counted as work the cores share "
-                      f"(in p), serial: the finish ({how}): a = {am:.2f} s, s = {sm * 1e3:.4f} ms/point, "
-                      f"p = {pm * 1e3:.3f} ms/point, f = {sm / (sm + pm):.3%}")
-            print(f"  predicted efficiency at 16 workers: {efficiency(am, sm, pm, largest, 16):.1%} at N = {largest}, "
-                  f"{efficiency(am, sm, pm, issue_size, 16):.1%} at N = {issue_size} (T1 = "
-                  f"{am + issue_size * (sm + pm):.0f} s); assumes the workers solve at the one-worker rate "
-                  "(idle cores, no memory-bandwidth limit)")
-        pooled = [r for r in runs if r["backend"] == "processes"]
-        loop = max(pooled, key=lambda r: (r["points"], r["workers"]))
-        per_point = loop["overhead_cpu"] / loop["points"]
-        print(f"  the loop CPU ({per_point * 1e3:.4f} ms/point at N = {loop['points']}) runs while the workers solve: "
-              f"counted as serial in the first MEASURED line (an upper bound); as a pipeline it caps the sweep at "
-              f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
+        modes = ("cold", "warm") if args.model_cache == "both" else (args.model_cache,)
+        for mode in modes if kind == "cardan" else ("cold",):  # a grid's models are built in the workers
+            with tempfile.TemporaryDirectory(prefix="bench-model-cache-") as folder:
+                env = {"PERIODYN_MODEL_CACHE": "off"} if mode == "cold" else {"PERIODYN_CACHE_DIR": folder}
+                if mode == "warm":
+                    run(kind, 10, 1, 1, env)  # the model built once into the cache (not timed)
+                report(kind, f"{title}; model {CACHE_MODES[mode]}" if kind == "cardan" else title, sizes,
+                       issue_size, cores, args, env)
     print(f"\nload average at end {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
 
 

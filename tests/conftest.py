@@ -5,10 +5,16 @@ subprocesses it starts inherit that): on the small matrices of these tests extra
 threads only wait for each other, and on a loaded 2-core machine the OpenBLAS of older
 wheels (numpy 1.26, scipy 1.11) made a Numba kernel calling LAPACK 40 times slower."""
 
+import atexit
 import os
+import shutil
+import tempfile
 
 for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
     os.environ.setdefault(_var, "1")
+# models built from sweep files are cached for this session only (and its subprocesses), not in the user's cache
+os.environ["PERIODYN_CACHE_DIR"] = tempfile.mkdtemp(prefix="periodyn-tests-cache-")
+atexit.register(shutil.rmtree, os.environ["PERIODYN_CACHE_DIR"], True)
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402

@@ -93,7 +93,15 @@ class SweepSpec(FileSpec):
 
     def build(self, **overrides):
         """The model from [model.parameters] (and ``overrides``); builder errors become
-        InputError naming the file."""
+        InputError naming the file. Without overrides, from the built-model cache where it
+        holds it (:func:`~periodyn.studies.cache.cached_model`)."""
+        if overrides:
+            return self._build(**overrides)
+        resample = (functools.partial(_resampled, self.builder, dict(self.parameters))
+                    if "samples" in builder_parameters(self.builder) else None)
+        return cache.cached_model(self, self._build, resample)
+
+    def _build(self, **overrides):
         kwargs = {**self.parameters, **overrides}
         if self.samples is not None and "samples" in builder_parameters(self.builder):
             kwargs["samples"] = self.samples
@@ -148,6 +156,11 @@ class SweepSpec(FileSpec):
                     self.build(**{name: value})
             return SweepPlan(functools.partial(self.builder, **fixed), omega, dict(self.grid), reference)
         return SweepPlan(model, omega, None, reference)
+
+
+def _resampled(builder, parameters: dict, samples: int):
+    """The model of ``builder(**parameters)`` at ``samples`` angles (a cached model's resampling)."""
+    return builder(**parameters, samples=samples)
 
 
 def parse_sweep_table(check: Checker, table, *, source, name, text, description, example, builder, parameters,
