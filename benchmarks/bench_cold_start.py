@@ -13,7 +13,7 @@ Compare source trees by running it once per tree with ``PYTHONPATH=<tree>/src``.
 ``--cold TREE [TREE ...]``: the first result after an install, per example kind (the
 first sweep file of each kind run by the ``periodyn`` command over two speeds: a speed
 sweep, a rotor's Campbell diagram, a DAE's continuation), each in a fresh process with an
-empty Numba cache (NUMBA_CACHE_DIR) and the source tree TREE/src, so nothing is compiled
+empty Numba cache (NUMBA_CACHE_DIR), no built-model cache and the source tree TREE/src, so nothing is compiled
 before; prints the process CPU seconds (all threads, the compile) and wall seconds per
 kind and tree, side by side, and the ratio of the CPU seconds to the first tree's.
 
@@ -69,7 +69,7 @@ def cold_run(tree: Path, kind: str) -> tuple[float, float]:
     """(CPU seconds, wall seconds) of a fresh process computing the kind's first result
     from ``tree`` with an empty Numba cache."""
     with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as tmp:
-        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(tree / "src")}
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache, "PYTHONPATH": str(tree / "src"), "PERIODYN_MODEL_CACHE": "off"}
         code = COLD_SCRIPT.format(out=str(Path(tmp) / "first.nc"), call=FIRST_RESULTS[kind])
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
