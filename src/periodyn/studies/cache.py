@@ -160,15 +160,16 @@ def cached_model(spec, build, resample=None):
 def _load(path: Path, resample) -> OmegaSplitModel | None:
     try:
         with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in _ARRAYS}
             about = json.loads(str(data["about"]))
-    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile):  # absent, or damaged (not by a crash: written whole)
+            model = OmegaSplitModel(**{name: data[name] for name in _ARRAYS},
+                                    coordinate_names=tuple(about["coordinate_names"]),
+                                    output_names=tuple(about["output_names"]), name=about["name"],
+                                    rebuild=resample if about["resamples"] else None, metadata=about["metadata"])
+    except (OSError, KeyError, TypeError, ValueError, EOFError, zipfile.BadZipFile):  # absent or damaged
         return None
     with contextlib.suppress(OSError):  # recently used (a read-only cache still serves)
         os.utime(path)
-    return OmegaSplitModel(**arrays, coordinate_names=tuple(about["coordinate_names"]),
-                           output_names=tuple(about["output_names"]), name=about["name"],
-                           rebuild=resample if about["resamples"] else None, metadata=about["metadata"])
+    return model
 
 
 def _store(path: Path, model) -> None:
