@@ -210,7 +210,7 @@ class SweepTruncation:
         """Indicators (S,) of the HB solutions q (S, 2m+1, n) at speeds omega (S,) rad/s (NaN
         where q is not finite)."""
         w = np.asarray(omega, float)
-        S, Pc = w.size, self.powers[0]
+        S = w.size
         band, used = self.content(w)
         top = self.tops(w, band)
         R = self.unbalanced(q, w, used)

@@ -152,8 +152,7 @@ def cached_model(spec, build, resample=None):
     if model is not None:
         return model
     model = build()
-    if model.rebuild is None or resample is not None:
-        _store(path, model)
+    _store(path, model, resample)
     return model
 
 
@@ -172,9 +171,9 @@ def _load(path: Path, resample) -> OmegaSplitModel | None:
     return model
 
 
-def _store(path: Path, model) -> None:
-    if type(model) is not OmegaSplitModel:
-        return
+def _store(path: Path, model, resample) -> None:
+    if type(model) is not OmegaSplitModel or (model.rebuild is not None and resample is None):
+        return  # not a model the cache can give back as built
     about = {"coordinate_names": list(model.coordinate_names), "output_names": list(model.output_names),
              "name": model.name, "metadata": model.metadata, "resamples": model.rebuild is not None}
     try:
