@@ -43,20 +43,25 @@ needs idle cores: the load average is printed at start and end.
 
 The sweep file's model is built inside the timed call (as ``periodyn sweep`` does): for the
 Cardan shaft that is seconds of fixed cost, so use --scale where the sweep itself is short.
-The Cardan table is printed twice (``--model-cache both``): with the model built in every
-run (cold: a file's first sweep, PERIODYN_MODEL_CACHE=off) and read from the built-model
+The Cardan table is printed three times (``--model-cache all``): with the model built in
+every run (cold: a file's first sweep, PERIODYN_MODEL_CACHE=off), read from the built-model
 cache (warm: a file's later sweeps, :func:`periodyn.studies.cache.cached_model`; the cache
-filled once before the timed runs).
+filled once before the timed runs), and built in every run by a process forked from a warm
+server (served: ``periodyn serve start sweeps/cardan_shaft.toml``, :mod:`periodyn.engine.server`:
+imports done and the kernels loaded, the model not cached; each run's client is a fresh
+process that hands the run to the server, and its timing is that of the forked process).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -117,16 +122,39 @@ print(json.dumps({"seconds": end - start, "points": int(ds.attrs["points"]), "ba
                   "overhead_cpu": marks["loop_end_cpu"] - marks["loop_start_cpu"] - marks["solve_cpu"]}))
 """
 
+#: the warm server of the "served" runs: `periodyn serve run sweeps/cardan_shaft.toml` whose command is CHILD
+HOST = r"""
+import sys
+from pathlib import Path
+from periodyn.cli import _preload
+from periodyn.engine.server import serve
+
+path, child, toml = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
+
+def command(argv):
+    sys.argv = ["bench-child", *argv]
+    exec(compile(child, "bench-child", "exec"), {"__name__": "__main__"})
+    return 0
+
+serve(command, idle=600.0, path=path, preload=lambda: _preload([toml]), ready=lambda path: print("ready", flush=True))
+"""
+CLIENT = ("import sys; from pathlib import Path; from periodyn.engine.server import delegate; "
+          "code = delegate(sys.argv[2:], Path(sys.argv[1])); sys.exit(99 if code is None else code)")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CARDAN = os.path.join(ROOT, "sweeps", "cardan_shaft.toml")
 CACHE_MODES = {"cold": "built in each run (PERIODYN_MODEL_CACHE=off)",
-               "warm": "read from the built-model cache (a file's second and later sweeps)"}
+               "warm": "read from the built-model cache (a file's second and later sweeps)",
+               "served": "built in each run, by a process forked from a warm server (periodyn serve)"}
 
 
-def run(kind: str, points: int, workers: int, repeats: int, env: dict | None = None) -> dict:
+def run(kind: str, points: int, workers: int, repeats: int, env: dict | None = None,
+        served: str | None = None) -> dict:
+    """The fastest of ``repeats`` runs of CHILD, each in a fresh process, or, with ``served``
+    (a socket path), in a process forked from that server."""
     best = None
+    head = [sys.executable, "-c", CHILD] if served is None else [sys.executable, "-c", CLIENT, served]
     for _ in range(repeats):
-        out = subprocess.run([sys.executable, "-c", CHILD, kind, str(points), str(workers),
-                              os.path.join(ROOT, "sweeps", "cardan_shaft.toml")],
+        out = subprocess.run(head + [kind, str(points), str(workers), CARDAN],
                              capture_output=True, text=True, check=True, env={**os.environ, **(env or {})})
         result = json.loads(out.stdout.strip().splitlines()[-1])
         if best is None or result["seconds"] < best["seconds"]:
@@ -174,7 +202,8 @@ def efficiency(a: float, s: float, p: float, n: float, w: int) -> float:
     return (a + n * (s + p)) / (w * (a + n * (s + p / w)))
 
 
-def report(kind: str, title: str, sizes: tuple, issue_size: int, cores: int, args, env: dict) -> None:
+def report(kind: str, title: str, sizes: tuple, issue_size: int, cores: int, args, env: dict,
+           served: str | None = None) -> None:
     """The table of one sweep over the sizes and worker counts, the fit and the predictions."""
     print(f"\n{title}")
     print(f"{'N':>7} {'workers':>7} {'s':>8} {'points/s':>9} {'efficiency':>10} {'pool up s':>9} "
@@ -184,7 +213,7 @@ def report(kind: str, title: str, sizes: tuple, issue_size: int, cores: int, arg
     for n in (int(round(size * args.scale)) for size in sizes):
         t1 = None
         for w in range(1, cores + 1):
-            r = run(kind, n, w, args.repeats, env)
+            r = run(kind, n, w, args.repeats, env, served)
             r["workers"] = w
             t1 = r["seconds"] if w == 1 else t1
             rows.append((r["points"], w, r["seconds"]))
@@ -236,15 +265,35 @@ def report(kind: str, title: str, sizes: tuple, issue_size: int, cores: int, arg
           f"{1 / per_point:.0f} points/s, {pm / per_point:.0f} workers' worth")
 
 
+@contextlib.contextmanager
+def warm_server(start: bool, folder: str):
+    """The socket path of a warm server of CHILD in ``folder`` (None unless ``start``), stopped after."""
+    if not start:
+        yield None
+        return
+    path = os.path.join(folder, "bench.sock")
+    host = subprocess.Popen([sys.executable, "-c", HOST, path, CHILD, CARDAN], stdout=subprocess.PIPE, text=True)
+    try:
+        if host.stdout.readline().strip() != "ready":
+            raise RuntimeError("the benchmark's warm server did not start")
+        yield path
+    finally:
+        from periodyn.engine.server import stop
+
+        stop(Path(path))
+        host.wait(60)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scale", type=float, default=1.0, help="multiply the numbers of points")
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--max-workers", type=int, default=len(os.sched_getaffinity(0)))
     parser.add_argument("--only", choices=("cardan", "slider_crank_grid"), help="run one of the two sweeps")
-    parser.add_argument("--model-cache", choices=("cold", "warm", "both"), default="both",
+    parser.add_argument("--model-cache", choices=("cold", "warm", "served", "all"), default="all",
                         help="the Cardan sweep file's model built in each run (cold), read from the built-model "
-                             "cache (warm), or both tables")
+                             "cache (warm), built in each run by a process forked from a warm server (served), "
+                             "or all three tables")
     args = parser.parse_args()
     cores = args.max_workers
     print(f"cores {len(os.sched_getaffinity(0))}, workers 1..{cores}, load average at start "
@@ -255,14 +304,15 @@ def main() -> None:
     for kind, (title, sizes, issue_size) in sweeps.items():
         if args.only and kind != args.only:
             continue
-        modes = ("cold", "warm") if args.model_cache == "both" else (args.model_cache,)
+        modes = tuple(CACHE_MODES) if args.model_cache == "all" else (args.model_cache,)
         for mode in modes if kind == "cardan" else ("cold",):  # a grid's models are built in the workers
             with tempfile.TemporaryDirectory(prefix="bench-model-cache-") as folder:
-                env = {"PERIODYN_MODEL_CACHE": "off"} if mode == "cold" else {"PERIODYN_CACHE_DIR": folder}
+                env = {"PERIODYN_CACHE_DIR": folder} if mode == "warm" else {"PERIODYN_MODEL_CACHE": "off"}
                 if mode == "warm":
                     run(kind, 10, 1, 1, env)  # the model built once into the cache (not timed)
-                report(kind, f"{title}; model {CACHE_MODES[mode]}" if kind == "cardan" else title, sizes,
-                       issue_size, cores, args, env)
+                with warm_server(mode == "served", folder) as served:
+                    report(kind, f"{title}; model {CACHE_MODES[mode]}" if kind == "cardan" else title, sizes,
+                           issue_size, cores, args, env, served)
     print(f"\nload average at end {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
 
 

@@ -15,6 +15,8 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECL
 # models built from sweep files are cached for this session only (and its subprocesses), not in the user's cache
 os.environ["PERIODYN_CACHE_DIR"] = tempfile.mkdtemp(prefix="periodyn-tests-cache-")
 atexit.register(shutil.rmtree, os.environ["PERIODYN_CACHE_DIR"], True)
+# a user's warm server (periodyn serve) never runs the suite's commands; tests/integration/test_server.py starts its own
+os.environ["PERIODYN_SERVER"] = "off"
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402

@@ -1,4 +1,4 @@
-"""Command line: ``periodyn sweep | figures | bench | warmup | info`` (see ``periodyn --help``).
+"""Command line: ``periodyn sweep | serve | figures | bench | warmup | info`` (see ``periodyn --help``).
 
 Exit codes: 0 success, 1 a computation or figure script failed, 2 bad input or an OS error
 (a message naming the problem, the path and the fix, never a traceback), 130 interrupted.
@@ -11,9 +11,12 @@ import os
 import platform
 import subprocess
 import sys
+import tempfile
 import time
+import warnings
 from pathlib import Path
 
+from .engine.server import IDLE_S, SERVER_ENV
 from .engine.session import caused_by_interrupt
 from .engine.threads import AUTO_PARALLEL_POINTS, WORKER_THREAD_ENV, available_cores
 from .errors import ConvergenceError, InputError
@@ -34,6 +37,7 @@ _EPILOG = """examples:
   periodyn figures                                      # every figure into figures/png/
   periodyn bench sweep
   periodyn warmup                                       # compile the kernels once after install
+  periodyn serve start                                  # keep a warm process: later sweeps start at once
   periodyn info
 """
 
@@ -112,6 +116,20 @@ def build_parser() -> argparse.ArgumentParser:
     bn.add_argument("names", nargs="*", metavar="NAME", help="benchmarks, e.g. 'sweep' for bench_sweep.py "
                                                               "(default: all)")
     bn.add_argument("--list", action="store_true", help="list the benchmarks and exit")
+
+    sv = commands.add_parser(
+        "serve", help="keep a warm server that runs later `periodyn sweep` commands (start | stop | status | run)",
+        description="A server process that has imported periodyn and loaded the compiled kernels of the speed "
+                    "solver, of the files named here and of every sweep it has run, so that a later `periodyn "
+                    "sweep` skips seconds of imports and kernel loading, and its workers start with the kernels "
+                    "(periodyn.engine.server). While it runs, `periodyn sweep` commands run in it, with the "
+                    f"terminal, folder and environment of the caller; set {SERVER_ENV}=off to run one here.")
+    sv.add_argument("action", choices=("start", "stop", "status", "run"),
+                    help="start it in the background, stop it, say whether it runs, or run it in this terminal")
+    sv.add_argument("files", nargs="*", type=Path, metavar="FILE",
+                    help="sweep files whose kernels to load at the start (the rest are loaded after their first sweep)")
+    sv.add_argument("--idle", type=float, default=IDLE_S / 60, metavar="MIN",
+                    help=f"stop after MIN minutes without a command (default {IDLE_S / 60:g})")
 
     commands.add_parser("warmup", help="compile the numerical kernels into Numba's cache (once per install)",
                         description="Compile (or load) every kernel family once, one progress line per step, so "
@@ -332,6 +350,110 @@ def _cmd_bench(args) -> int:
     return 1 if status else 0
 
 
+def _cmd_serve(args) -> int:
+    from .engine import server
+
+    if args.action == "status":
+        state = server.ping()
+        if state is None:
+            print(f"no periodyn server runs for this code and environment ({server.socket_path()})")
+            return 1
+        print(f"periodyn server: pid {state['pid']}, socket {server.socket_path()}, {state['running']} command(s) "
+              f"running, kernels of: {', '.join(state['learned']) or 'the speed solver only'}")
+        return 0
+    if args.action == "stop":
+        print("periodyn server stopped" if server.stop() else "no periodyn server runs for this code and environment")
+        return 0
+    files = [str(f.resolve()) for f in args.files]
+    for file in files:
+        if not Path(file).is_file():
+            raise InputError(f"{file} is not a sweep file; give existing files (or none)")
+    if args.idle <= 0:
+        raise InputError(f"--idle must be a positive number of minutes, got {args.idle}")
+    if args.action == "run":
+        return server.serve(main, _learn, idle=args.idle * 60, preload=lambda: _preload(files),
+                            ready=lambda path: print(f"periodyn server: serving at {path}", flush=True))
+    return _start_server(files, args.idle)
+
+
+def _start_server(files: list[str], idle: float) -> int:
+    """``periodyn serve start``: the server in a background process of its own session,
+    its output into a log beside its socket; returns once it answers."""
+    from .engine import server
+
+    state = server.ping()
+    if state is not None:
+        print(f"a periodyn server already runs (pid {state['pid']}); `periodyn serve stop` stops it")
+        return 0
+    path = server.socket_path()
+    path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+    log = path.with_suffix(".log")
+    command = [sys.executable, "-m", "periodyn.cli", "serve", "run", *files, "--idle", str(idle)]
+    with open(log, "w") as out:
+        process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT,
+                                   start_new_session=True)
+    print("periodyn server: starting (importing, loading the kernels; compiling them where Numba's cache is "
+          "empty, see `periodyn warmup`)", flush=True)
+    while process.poll() is None:
+        state = server.ping()
+        if state is not None:
+            print(f"periodyn server: up (pid {state['pid']}); `periodyn sweep` commands run in it until `periodyn "
+                  f"serve stop` or {idle:g} min without one (log: {log})")
+            return 0
+        time.sleep(0.2)
+    print(f"periodyn serve: error: the server ended at its start (exit {process.returncode}); its log {log}:\n"
+          + log.read_text()[-3000:], file=sys.stderr)
+    return 1
+
+
+def _preload(files: list[str]) -> set[str]:
+    """The server's start: the speed solver's kernels, and those of ``files``; returns
+    the families of ``files``."""
+    from .speeds import warm_up
+
+    warm_up()
+    learned: set[str] = set()
+    for file in files:
+        learned.add(_learn(["sweep", file], learned) or "")
+    return learned - {""}
+
+
+def _learn(argv: list[str], learned: set[str]) -> str | None:
+    """Load into this process (the server) the kernels that the command ``argv`` runs,
+    unless its family is in ``learned``: for a speed sweep, its model built past the
+    model cache and two of its speeds solved and written (which imports the result
+    writer). Returns the family (the file's example or name), or None for other commands."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit:
+        return None
+    if args.command != "sweep":
+        return None
+    from .engine.front import sweep
+    from .studies.spec import load_sweep_file
+
+    spec = load_sweep_file(args.file)
+    family = spec.example or spec.name
+    if spec.kind != "sweep" or family in learned:
+        return None
+    cache = os.environ.get("PERIODYN_MODEL_CACHE")
+    os.environ["PERIODYN_MODEL_CACHE"] = "off"  # the build itself loads the model's kernels
+    try:
+        plan = spec.plan(None)
+    finally:
+        if cache is None:
+            del os.environ["PERIODYN_MODEL_CACHE"]
+        else:
+            os.environ["PERIODYN_MODEL_CACHE"] = cache
+    first = {name: values[:1] for name, values in plan.parameters.items()} if plan.parameters else None
+    middle = plan.omega[len(plan.omega) // 2:][:2]
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory(prefix="periodyn-learn-") as folder:
+        warnings.simplefilter("ignore")  # what these speeds find is not reported: the kernels are what counts
+        sweep(plan.model, middle, spec.harmonics, spec.samples, spec.method if spec.stability else False,
+              parameters=first, workers=1, progress=False, out=Path(folder) / "learn.nc")  # the writer too
+    return family
+
+
 def _cmd_warmup(args) -> int:
     from .engine.warmup import warm_up
 
@@ -366,7 +488,7 @@ def _cmd_info(args) -> int:
     return 0
 
 
-_COMMANDS = {"sweep": _cmd_sweep, "figures": _cmd_figures, "bench": _cmd_bench, "warmup": _cmd_warmup,
+_COMMANDS = {"sweep": _cmd_sweep, "serve": _cmd_serve, "figures": _cmd_figures, "bench": _cmd_bench, "warmup": _cmd_warmup,
              "info": _cmd_info}
 
 
@@ -401,8 +523,16 @@ def _interrupted(command: str) -> int:
 
 
 def run() -> None:
-    """The console script: :func:`main`, then exit. After an interrupt (chunks saved, lock
-    released) at once: a pool abandoned mid-chunk can hold the exit on its result pipe."""
+    """The console script: a ``sweep`` in the warm server where one runs
+    (:func:`periodyn.engine.server.delegate`), else :func:`main`; then exit. After an
+    interrupt (chunks saved, lock released) at once: a pool abandoned mid-chunk can hold the
+    exit on its result pipe."""
+    if sys.argv[1:2] == ["sweep"]:
+        from .engine.server import delegate
+
+        code = delegate(sys.argv[1:])
+        if code is not None:
+            sys.exit(code)
     code = main()
     if code == 130:
         sys.stdout.flush(), sys.stderr.flush()

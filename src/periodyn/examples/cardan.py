@@ -35,7 +35,7 @@ import numpy as np
 import scipy.linalg
 
 from ..errors import InputError
-from ..model.linearization import linearize, omega_split
+from ..model.linearization import omega_split
 from ..model import BeamSection, Model
 from ..model.spatial import axis_angle
 
@@ -109,8 +109,8 @@ def cardan_frequencies(model) -> dict[str, float]:
     """Undamped eigenfrequencies (rad/s) of the linearized model at rest (omega = 0,
     theta = 0): ``bending`` the lowest mode whose eigenvector lies in bending, ``torsion``
     the lowest in torsion (by the largest share of the torsion modes in its eigenvector)."""
-    lin = linearize(model, 0.0, 1)
-    w2, vec = scipy.linalg.eigh(lin.stiffness[0], lin.mass[0])
+    rest = omega_split(model, 1)  # the kernels the sweep's own model loads (linearize's would be one more)
+    w2, vec = scipy.linalg.eigh(rest.stiffness[0, 0], rest.mass[0])
     twist = np.array([name.endswith(".torsion") for name in model.dynamic_names])
     share = (vec[twist] ** 2).sum(axis=0) / (vec**2).sum(axis=0)
     omega = np.sqrt(np.clip(w2, 0.0, None))

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConvergenceError, InputError
-from ..kernels.mechanism import assembly, constraint_system, lu, transfer
+from ..kernels.mechanism import constraint_system, lu, split, transfer
 from ..numerics.spectra import sample_angles
 
 __all__ = ["Motion", "check_constraints", "check_inertia", "nominal_configurations", "configuration", "motion"]
@@ -62,9 +62,10 @@ def check_inertia(model) -> None:
     if nd == 0:
         return
     zeros = np.zeros(model.n_inputs + nd)
-    Mb, Cb, Kb = (np.empty((nd, nd)) for _ in range(3))
-    assembly.reduced_sample(model.arrays, model.x_reference, zeros, zeros, np.zeros(n), Mb, Cb, Kb, np.empty(nd),
-                            *(np.empty((n, nd)) for _ in range(3)))
+    Mb = np.empty((nd, nd))
+    # the omega-split kernel, which the model's linearization loads anyway (reduced_sample would be one more to load)
+    split.split_sample(model.arrays, model.x_reference, zeros, zeros, np.zeros(n), 1.0, Mb, np.empty((2, nd, nd)),
+                       np.empty((3, nd, nd)), np.empty((3, nd)), *(np.empty((n, nd)) for _ in range(3)))
     w, V = np.linalg.eigh(0.5 * (Mb + Mb.T))
     if w[0] > 1e-12 * max(abs(w[-1]), 1e-300):
         return

@@ -23,20 +23,18 @@ every time; the cache keeps at most MODEL_CACHE_BYTES, the least recently used d
 from __future__ import annotations
 
 import contextlib
-import functools
 import hashlib
 import json
 import os
-import platform
 import tempfile
 import time
 import tomllib
 import zipfile
 from pathlib import Path
 
-import numba
 import numpy as np
 
+from ..engine.server import code_version
 from ..errors import InputError
 from ..system import OmegaSplitModel
 
@@ -119,23 +117,13 @@ def model_cache_dir() -> Path | None:
     return Path(root) / "models"
 
 
-@functools.lru_cache(maxsize=1)
-def _code_version() -> str:
-    """Hash of every periodyn source file and the Python, NumPy and Numba versions."""
-    package = Path(__file__).resolve().parents[1]
-    digest = hashlib.sha256(f"{platform.python_version()} {np.__version__} {numba.__version__}".encode())
-    for path in sorted(package.rglob("*.py")):
-        digest.update(str(path.relative_to(package)).encode() + b"\0" + path.read_bytes() + b"\0")
-    return digest.hexdigest()
-
-
 def model_fingerprint(spec) -> str:
     """SHA-256 of what building ``spec``'s model reads and runs (module docstring)."""
     document = tomllib.loads(spec.text)
     document.pop("description", None)
     sweep = document.pop("sweep", {})
     request = {"example": spec.example, "study": document, "samples": sweep.get("samples"),
-               "inputs": spec.inputs, "code": _code_version()}
+               "inputs": spec.inputs, "code": code_version()}
     return hashlib.sha256(json.dumps(request, sort_keys=True, default=str).encode()).hexdigest()
 
 

@@ -85,7 +85,7 @@ def test_the_key_is_what_the_build_reads_and_runs(store, monkeypatch):
     assert cache.model_fingerprint(_spec(PENDULUM.replace("harmonics = 6", "harmonics = 4"))) == key
     assert cache.model_fingerprint(_spec(PENDULUM.replace("zeta = 0.01", "zeta = 0.02"))) != key
     assert cache.model_fingerprint(_spec(PENDULUM.replace("samples = 32", "samples = 48"))) != key
-    monkeypatch.setattr(cache, "_code_version", lambda: "another periodyn")
+    monkeypatch.setattr(cache, "code_version", lambda: "another periodyn")
     assert cache.model_fingerprint(_spec()) != key
 
 
