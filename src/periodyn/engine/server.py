@@ -127,7 +127,11 @@ def _request(sock: socket.socket, message: dict, fds: list[int] = ()) -> None:
     sock.sendall(json.dumps(message).encode() + b"\n")
 
 
-def _short_request(message: dict, path: Path | None) -> dict | None:
+def _ask(message: dict, path: Path | None, fds: list[int] = (), then=None):
+    """Send ``message`` (with the descriptors ``fds``) to the server at ``path`` (default
+    :func:`socket_path`) and read its first reply, waiting as long as the server takes (one
+    loading kernels answers when done); ``then(reply, replies)`` reads on. None where no
+    server answers."""
     if _supported():
         return None
     sock = _connect(path or socket_path(), timeout=5.0)
@@ -135,49 +139,51 @@ def _short_request(message: dict, path: Path | None) -> dict | None:
         return None
     with sock, sock.makefile("rb") as replies:
         try:
-            _request(sock, message)
-            return json.loads(replies.readline() or b"null")
+            _request(sock, message, fds)
+            sock.settimeout(None)
+            reply = json.loads(replies.readline() or b"null")
         except (OSError, ValueError):
-            return None
+            return None  # the server went away before it answered
+        return reply if then is None or not isinstance(reply, dict) else then(reply, replies)
 
 
 def ping(path: Path | None = None) -> dict | None:
     """The server's state (``pid``, ``key``, ``learned``: the kernel families it holds,
     ``idle_s``) or None where none answers at ``path`` (default :func:`socket_path`)."""
-    return _short_request({"op": "ping"}, path)
+    return _ask({"op": "ping"}, path)
 
 
 def stop(path: Path | None = None) -> bool:
     """Stop the server at ``path`` (default :func:`socket_path`); False where none answered.
     Commands it is running finish."""
-    return _short_request({"op": "stop"}, path) is not None
+    return _ask({"op": "stop"}, path) is not None
 
 
 def delegate(argv: list[str], path: Path | None = None) -> int | None:
     """Run the command ``argv`` in the server at ``path`` (default :func:`socket_path`), with
     this process's standard streams, folder and environment; its exit status, or None where
     no server answers (or ``PERIODYN_SERVER=off``, or a standard stream is closed): then the
-    caller runs the command itself."""
-    if os.environ.get(SERVER_ENV, "").lower() == "off" or _supported() or (path is None and not server_dir().is_dir()):
+    caller runs the command itself. The first reply is the command's process id, sent by
+    that process: a command is never run both there and here."""
+    if os.environ.get(SERVER_ENV, "").lower() == "off" or (path is None and not server_dir().is_dir()):
         return None  # (no folder, no server: the code is not even hashed)
     try:
         for fd in (0, 1, 2):
             os.fstat(fd)
     except OSError:
         return None
-    sock = _connect(path or socket_path(), timeout=5.0)
-    if sock is None:
-        return None
-    with sock, sock.makefile("rb") as replies:
-        try:
-            _request(sock, {"op": "run", "argv": list(argv), "cwd": os.getcwd(), "env": dict(os.environ)}, [0, 1, 2])
-            sock.settimeout(None)  # a server loading kernels answers when done: never run the command twice
-            started = json.loads(replies.readline() or b"null")
-        except (OSError, ValueError):
-            return None  # the server went away before it took the command
-        if not isinstance(started, dict) or "pid" not in started:
-            return None
-        return _wait(replies, int(started["pid"]))
+    message = {"op": "run", "argv": list(argv), "cwd": os.getcwd(), "env": dict(os.environ)}
+    try:
+        code = _ask(message, path, [0, 1, 2], then=_started)
+    except KeyboardInterrupt:  # before the command started: its process, finding no client, ends unstarted
+        print(f"periodyn {argv[0] if argv else ''}: interrupted before the server started the command",
+              file=sys.stderr)
+        return 130
+    return code
+
+
+def _started(reply: dict, replies) -> int | None:
+    return _wait(replies, int(reply["pid"])) if "pid" in reply else None
 
 
 def _wait(replies, pid: int) -> int:
@@ -232,6 +238,7 @@ def serve(command: Callable[[list[str]], int], learn: Callable[[list[str], set[s
         return 1
     with contextlib.suppress(FileNotFoundError):
         path.unlink()
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(0))  # `kill` removes the socket too
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(os.fspath(path))
     os.chmod(path, 0o600)
