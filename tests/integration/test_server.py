@@ -172,3 +172,19 @@ def test_serve_refuses_a_missing_file_and_a_bad_idle_time(socket_dir, tmp_path):
 def _socket(folder: Path) -> Path:
     (path,) = folder.glob("*.sock")
     return path
+
+
+def test_the_server_learns_a_speed_sweeps_kernels_once_and_nothing_from_other_commands(tmp_path, monkeypatch):
+    from periodyn.cli import _learn, _preload
+    from periodyn.errors import InputError
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "tiny.toml").write_text(TINY)
+    assert _learn(["sweep", "tiny.toml", "--omega", "0.5:0.6:3"], set()) == "pendulum"
+    assert _learn(["sweep", "tiny.toml"], {"pendulum"}) is None  # its family is loaded already
+    assert _learn(["info"], set()) is None
+    assert _learn(["sweep", "--no-such-option"], set()) is None  # the command itself reports it
+    with pytest.raises(InputError):
+        _learn(["sweep", "missing.toml"], set())  # the server prints it and goes on (periodyn.engine.server._learn)
+    assert not list(tmp_path.glob("*.nc")) and not list(tmp_path.glob("results"))  # learning writes nothing here
+    assert _preload([str(tmp_path / "tiny.toml")]) == {"pendulum"}
