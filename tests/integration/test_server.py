@@ -99,6 +99,17 @@ def test_a_killed_command_is_reported_not_taken_for_success(toy):
     assert "ended without an exit status" in err
 
 
+def test_a_malformed_request_is_dropped_and_the_server_serves_on(toy):
+    import socket
+
+    for message in ({"op": "run"}, {"op": "run", "argv": "sweep", "cwd": "/", "env": {}}, {"op": "nonsense"}):
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+            sock.connect(str(toy))
+            server._request(sock, message, [0, 1, 2])
+            assert sock.makefile("rb").readline() == b""  # no reply, the connection closed
+    assert server.ping(toy) is not None
+
+
 def test_without_a_server_the_caller_runs_the_command(socket_dir):
     assert server.delegate(["sweep", "x.toml"], socket_dir / "none.sock") is None
     assert server.ping(socket_dir / "none.sock") is None

@@ -245,7 +245,7 @@ def serve(command: Callable[[list[str]], int], learn: Callable[[list[str], set[s
     listener.listen(64)
     listener.settimeout(1.0)
     children: set[int] = set()
-    pending: list[list[str]] = []
+    pending: list[tuple[list[str], str]] = []  # (argv, folder) of commands whose kernels to load here
     last = time.monotonic()
     if ready is not None:
         ready(path)
@@ -279,7 +279,7 @@ def serve(command: Callable[[list[str]], int], learn: Callable[[list[str], set[s
                 elif op == "stop":
                     _reply(conn, {"stopped": os.getpid()})
                     return 0
-                elif op == "run" and len(fds) == 3:
+                elif op == "run" and len(fds) == 3 and _is_command(message):
                     pid = os.fork()
                     if pid == 0:
                         listener.close()
@@ -293,6 +293,13 @@ def serve(command: Callable[[list[str]], int], learn: Callable[[list[str], set[s
         listener.close()
         with contextlib.suppress(FileNotFoundError):
             path.unlink()
+
+
+def _is_command(message: dict) -> bool:
+    """Whether a "run" request carries what running it needs (else it is dropped: the client runs it)."""
+    argv, cwd, env = message.get("argv"), message.get("cwd"), message.get("env")
+    return (isinstance(argv, list) and all(isinstance(a, str) for a in argv) and isinstance(cwd, str)
+            and isinstance(env, dict) and all(isinstance(k, str) and isinstance(v, str) for k, v in env.items()))
 
 
 def _reply(conn: socket.socket, message: dict) -> None:
