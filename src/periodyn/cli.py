@@ -414,8 +414,10 @@ def _preload(files: list[str]) -> set[str]:
     warm_up()
     learned: set[str] = set()
     for file in files:
-        learned.add(_learn(["sweep", file], learned) or "")
-    return learned - {""}
+        family = _learn(["sweep", file], learned)
+        if family:
+            learned.add(family)
+    return learned
 
 
 def _learn(argv: list[str], learned: set[str]) -> str | None:
@@ -429,6 +431,8 @@ def _learn(argv: list[str], learned: set[str]) -> str | None:
         return None
     if args.command != "sweep":
         return None
+    from unittest import mock
+
     from .engine.front import sweep
     from .studies.spec import load_sweep_file
 
@@ -436,15 +440,8 @@ def _learn(argv: list[str], learned: set[str]) -> str | None:
     family = spec.example or spec.name
     if spec.kind != "sweep" or family in learned:
         return None
-    cache = os.environ.get("PERIODYN_MODEL_CACHE")
-    os.environ["PERIODYN_MODEL_CACHE"] = "off"  # the build itself loads the model's kernels
-    try:
+    with mock.patch.dict(os.environ, {"PERIODYN_MODEL_CACHE": "off"}):  # the build itself loads the model's kernels
         plan = spec.plan(None)
-    finally:
-        if cache is None:
-            del os.environ["PERIODYN_MODEL_CACHE"]
-        else:
-            os.environ["PERIODYN_MODEL_CACHE"] = cache
     first = {name: values[:1] for name, values in plan.parameters.items()} if plan.parameters else None
     middle = plan.omega[len(plan.omega) // 2:][:2]
     with warnings.catch_warnings(), tempfile.TemporaryDirectory(prefix="periodyn-learn-") as folder:
